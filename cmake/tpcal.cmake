@@ -1,0 +1,43 @@
+# Helpers: one library per folder, one test executable per folder (README, "Layers").
+
+function(tpcal_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-unused-parameter)
+  if(TPCAL_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+if(TPCAL_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# tpcal_add_library(NAME [DEPS public targets...] [PRIVATE_DEPS targets...])
+# Sources: every NAME/*.cc that is not a *_test.cc. Public headers: NAME/*.h, included as "NAME/x.h".
+function(tpcal_add_library name)
+  cmake_parse_arguments(ARG "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cc)
+  list(FILTER srcs EXCLUDE REGEX "_test\\.cc$")
+  add_library(tpcal_${name} STATIC ${srcs})
+  add_library(tpcal::${name} ALIAS tpcal_${name})
+  target_include_directories(tpcal_${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(tpcal_${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  tpcal_warnings(tpcal_${name})
+endfunction()
+
+# tpcal_add_tests(NAME [DEPS targets...]): NAME/*_test.cc into one gtest binary NAME_tests,
+# registered with CTest as NAME/<Suite>.<Test> via gtest_discover_tests.
+function(tpcal_add_tests name)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc)
+  if(NOT srcs)
+    return()
+  endif()
+  add_executable(${name}_tests ${srcs})
+  target_link_libraries(${name}_tests PRIVATE tpcal::${name} ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  target_compile_definitions(${name}_tests PRIVATE TPCAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  tpcal_warnings(${name}_tests)
+  include(GoogleTest)
+  gtest_discover_tests(${name}_tests TEST_PREFIX "${name}/" DISCOVERY_TIMEOUT 60
+    PROPERTIES LABELS "unit;${name}")
+endfunction()
