@@ -1,0 +1,41 @@
+// The tpcal command table: each subcommand registers its options on the CLI11 app and returns
+// the function that runs it after parsing. Subcommands are thin: parse, validate, call library
+// code, write outputs atomically, choose the exit code. Only this layer prints.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "core/status.h"
+
+namespace CLI {
+class App;
+}
+
+namespace tpcal::cli {
+
+// Exit codes of every tpcal command.
+inline constexpr int kExitOk = 0;          // success
+inline constexpr int kExitSomeFailed = 1;  // a batch ran, but some items failed
+inline constexpr int kExitBadInput = 2;    // bad input or usage: nothing was written
+
+struct Command {
+  CLI::App* app = nullptr;    // the subcommand
+  std::function<int()> run;   // runs it after a successful parse
+};
+
+Command RegisterFit(CLI::App& app);
+Command RegisterPlan(CLI::App& app);
+Command RegisterSimulate(CLI::App& app);
+Command RegisterGcode(CLI::App& app);
+Command RegisterIdentify(CLI::App& app);
+Command RegisterDiagnose(CLI::App& app);
+Command RegisterRun(CLI::App& app);
+
+// Prints "file:line: message" to stderr and returns kExitBadInput.
+int ReportError(const Status& status);
+// Prints a progress/info line to stderr unless quiet.
+void Info(const std::string& line);
+void SetQuiet(bool quiet);
+
+}  // namespace tpcal::cli

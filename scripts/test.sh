@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Builds tpcal and runs every test: a Release build with the full CTest suite, then the unit
+# tests once more under AddressSanitizer + UndefinedBehaviorSanitizer. README command 2; CI runs it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=${JOBS:-$(nproc)}
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTPCAL_WERROR=ON
+cmake --build build -j "$JOBS"
+ctest --test-dir build --output-on-failure -j "$JOBS" --timeout 900
+
+# Sanitizers: unit tests only (label "unit"), no benchmarks.
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+  -DTPCAL_SANITIZE=ON -DTPCAL_BUILD_BENCH=OFF
+cmake --build build-asan -j "$JOBS"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j "$JOBS" -L unit --timeout 1800
+echo "tpcal: all tests passed (Release + ASan/UBSan)"
