@@ -1,0 +1,51 @@
+// Forward kinematics with exact homogeneous transforms (conventions.h): the pose of the tool in
+// the part frame for given axis commands and machine errors. Model/Data split: MachineModel and
+// ErrorState are constant; Workspace is the per-call scratch (one per thread).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/frames.h"
+#include "kinematics/axis_state.h"
+#include "kinematics/error_state.h"
+#include "kinematics/machine_model.h"
+
+namespace tpcal::kinematics {
+
+// Per-call scratch. Reuse across calls to avoid allocation; not shared between threads.
+struct Workspace {
+  std::vector<LinkErrors> link_errors;  // evaluated error components per link
+  std::vector<double> scratch;          // term basis values
+};
+
+// part_from_tool under `errors` (exact; mm). The model and errors must belong together
+// (same machine; asserted).
+Rigid3 PartFromTool(const MachineModel& model, const ErrorState& errors, const AxisState& axes,
+                    Workspace* ws);
+// Nominal machine (no errors).
+Rigid3 NominalPartFromTool(const MachineModel& model, const AxisState& axes);
+
+// part_from_machine and machine_from_tool separately (for R-test style checks), under errors.
+Rigid3 MachineFromPart(const MachineModel& model, const ErrorState& errors, const AxisState& axes,
+                       Workspace* ws);
+Rigid3 MachineFromTool(const MachineModel& model, const ErrorState& errors, const AxisState& axes,
+                       Workspace* ws);
+
+// A point fixed in the tool frame (e.g. the cutting contact point, mm), in the part frame.
+Eigen::Vector3d ToolPointInPart(const MachineModel& model, const ErrorState& errors,
+                                const AxisState& axes, const Eigen::Vector3d& contact_in_tool_mm,
+                                Workspace* ws);
+Eigen::Vector3d NominalToolPointInPart(const MachineModel& model, const AxisState& axes,
+                                       const Eigen::Vector3d& contact_in_tool_mm);
+
+// Unit tool axis (+z of the tool frame) in the part frame, nominal.
+Eigen::Vector3d NominalToolAxisInPart(const MachineModel& model, const AxisState& axes);
+
+// part_from_tool for explicit link error components (link_errors[link][Component], mm, rad);
+// the primitive the functions above use after evaluating the error terms.
+Rigid3 PartFromToolWithLinkErrors(const MachineModel& model,
+                                  const std::vector<LinkErrors>& link_errors,
+                                  const AxisState& axes);
+
+}  // namespace tpcal::kinematics
