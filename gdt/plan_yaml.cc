@@ -1,0 +1,319 @@
+#include "gdt/plan_yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace tpcal::gdt {
+namespace {
+
+constexpr const char* kSchema = "tpcal.inspection_plan/1";
+
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  static std::size_t Line(const YAML::Node& n) {
+    const YAML::Mark m = n.Mark();
+    return m.line < 0 ? 0 : static_cast<std::size_t>(m.line) + 1;
+  }
+
+  Status Error(const YAML::Node& at, const std::string& msg) const {
+    return Status(StatusCode::kParseError, msg, source_, Line(at));
+  }
+
+  // `node` must be a map whose keys are all in `allowed` and appear once.
+  Status CheckMap(const YAML::Node& node, const std::string& what, const std::set<std::string>& allowed) const {
+    if (!node.IsMap()) return Error(node, what + ": expected a map of key: value");
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) return Error(kv.first, what + ": keys must be plain names");
+      const std::string key = kv.first.Scalar();
+      if (!allowed.contains(key)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        return Error(kv.first, what + ": unknown key '" + key + "' (allowed: " + list + ")");
+      }
+      if (!seen.insert(key).second) return Error(kv.first, what + ": key '" + key + "' given twice");
+    }
+    return Status::Ok();
+  }
+
+  Result<std::string> String(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsScalar()) return Error(n, what + ": expected a text value");
+    return n.Scalar();
+  }
+
+  Result<double> Number(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsScalar()) return Error(n, what + ": expected a number");
+    double v = 0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      return Error(n, what + ": expected a number, got '" + n.Scalar() + "'");
+    }
+    if (!std::isfinite(v)) return Error(n, what + ": expected a finite number");
+    return v;
+  }
+
+  Result<std::vector<double>> Numbers(const YAML::Node& n, const std::string& what, std::size_t size = 0) const {
+    if (!n.IsSequence()) return Error(n, what + ": expected a list of numbers [a, b, ...]");
+    if (size != 0 && n.size() != size)
+      return Error(n, what + ": expected " + std::to_string(size) + " numbers, got " + std::to_string(n.size()));
+    std::vector<double> out;
+    for (const auto& e : n) {
+      auto v = Number(e, what);
+      if (!v.ok()) return v.status();
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+  Result<std::vector<std::string>> Strings(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence()) return Error(n, what + ": expected a list of names [a, b, ...]");
+    std::vector<std::string> out;
+    for (const auto& e : n) {
+      auto v = String(e, what);
+      if (!v.ok()) return v.status();
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+  template <typename E>
+  Result<E> Enum(const YAML::Node& n, const std::string& what, std::optional<E> (*parse)(std::string_view),
+                 const char* expected) const {
+    auto s = String(n, what);
+    if (!s.ok()) return s.status();
+    auto e = parse(*s);
+    if (!e) return Error(n, what + ": unknown value '" + *s + "', expected one of " + expected);
+    return *e;
+  }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+};
+
+#define TPCAL_ASSIGN_OR_RETURN(lhs, expr) \
+  do {                                    \
+    auto r_ = (expr);                     \
+    if (!r_.ok()) return r_.status();     \
+    lhs = std::move(*r_);                 \
+  } while (0)
+
+Result<AxisSense> ParseSense(const Reader& rd, const YAML::Node& n, const std::string& what) {
+  AxisSense s;
+  if (n.IsScalar()) {
+    const std::string v = n.Scalar();
+    if (v == "point_normals") {
+      s.rule = AxisSense::Rule::kPointNormals;
+    } else if (v == "point_order") {
+      s.rule = AxisSense::Rule::kPointOrder;
+    } else {
+      return rd.Error(n, what + ": expected point_normals, point_order, {away_from: FEATURE} or {toward: FEATURE}");
+    }
+    return s;
+  }
+  TPCAL_RETURN_IF_ERROR(rd.CheckMap(n, what, {"away_from", "toward"}));
+  if (n.size() != 1) return rd.Error(n, what + ": give one of away_from, toward");
+  const auto kv = *n.begin();
+  s.rule = kv.first.Scalar() == "away_from" ? AxisSense::Rule::kAwayFrom : AxisSense::Rule::kToward;
+  TPCAL_ASSIGN_OR_RETURN(s.feature, rd.String(kv.second, what + " " + kv.first.Scalar()));
+  return s;
+}
+
+Result<DatumFrameSpec> ParseFrame(const Reader& rd, const YAML::Node& n) {
+  const std::string what = "datum_frame";
+  TPCAL_RETURN_IF_ERROR(
+      rd.CheckMap(n, what, {"type", "primary", "center", "x_toward", "secondary", "tertiary", "z_sense", "x_sense"}));
+  DatumFrameSpec d;
+  d.line = Reader::Line(n);
+  if (!n["type"]) return rd.Error(n, what + ": missing key 'type' (turning or 3-2-1)");
+  std::string type;
+  TPCAL_ASSIGN_OR_RETURN(type, rd.String(n["type"], what + " type"));
+  if (type == "turning") {
+    d.type = DatumFrameType::kTurning;
+  } else if (type == "3-2-1") {
+    d.type = DatumFrameType::kThreeTwoOne;
+  } else {
+    return rd.Error(n["type"], what + " type: unknown value '" + type + "', expected turning or 3-2-1");
+  }
+  const bool turning = d.type == DatumFrameType::kTurning;
+  const std::vector<std::pair<const char*, std::string*>> required =
+      turning ? std::vector<std::pair<const char*, std::string*>>{{"primary", &d.primary},
+                                                                 {"center", &d.center},
+                                                                 {"x_toward", &d.x_toward}}
+              : std::vector<std::pair<const char*, std::string*>>{{"primary", &d.primary},
+                                                                 {"secondary", &d.secondary},
+                                                                 {"tertiary", &d.tertiary}};
+  for (const auto& [key, dst] : required) {
+    if (!n[key]) return rd.Error(n, what + " (" + type + "): missing key '" + key + "'");
+    TPCAL_ASSIGN_OR_RETURN(*dst, rd.String(n[key], what + " " + key));
+  }
+  for (const char* key : turning ? std::vector<const char*>{"secondary", "tertiary", "x_sense"}
+                                 : std::vector<const char*>{"center", "x_toward"}) {
+    if (n[key]) return rd.Error(n[key], what + ": key '" + key + "' does not apply to a " + type + " frame");
+  }
+  if (!n["z_sense"])
+    return rd.Error(n, what + ": missing key 'z_sense' (point_normals, {away_from: FEATURE} or {toward: FEATURE}); "
+                              "the CMM frame never decides the part's +Z");
+  TPCAL_ASSIGN_OR_RETURN(d.z_sense, ParseSense(rd, n["z_sense"], what + " z_sense"));
+  if (n["x_sense"]) TPCAL_ASSIGN_OR_RETURN(d.x_sense, ParseSense(rd, n["x_sense"], what + " x_sense"));
+  return d;
+}
+
+Result<FeatureSpec> ParseFeature(const Reader& rd, const YAML::Node& key, const YAML::Node& n, bool has_frame) {
+  FeatureSpec f;
+  TPCAL_ASSIGN_OR_RETURN(f.name, rd.String(key, "feature name"));
+  const std::string what = "feature '" + f.name + "'";
+  f.line = Reader::Line(key);
+  TPCAL_RETURN_IF_ERROR(rd.CheckMap(n, what, {"kind", "projection", "form_criterion", "nominal_direction", "members"}));
+  if (!n["kind"]) return rd.Error(n, what + ": missing key 'kind'");
+  TPCAL_ASSIGN_OR_RETURN(f.kind, rd.Enum<FeatureKind>(n["kind"], what + " kind", ParseFeatureKind,
+                                                      "line2, line3, plane, circle, cylinder, sphere, cone, point, "
+                                                      "pitch_circle"));
+  const bool planar = f.kind == FeatureKind::kLine2 || f.kind == FeatureKind::kPitchCircle;
+  if (planar || (f.kind == FeatureKind::kCircle && has_frame)) f.projection = Projection::kDatumXY;
+  if (n["projection"])
+    TPCAL_ASSIGN_OR_RETURN(f.projection, rd.Enum<Projection>(n["projection"], what + " projection", ParseProjection,
+                                                             "none, datum_xy, datum_yz, datum_zx"));
+  if (n["form_criterion"])
+    TPCAL_ASSIGN_OR_RETURN(f.form_criterion, rd.Enum<FormCriterion>(n["form_criterion"], what + " form_criterion",
+                                                                    ParseFormCriterion, "ls, mz"));
+  if (n["nominal_direction"]) {
+    std::vector<double> v;
+    TPCAL_ASSIGN_OR_RETURN(v, rd.Numbers(n["nominal_direction"], what + " nominal_direction", 3));
+    f.nominal_direction = Eigen::Vector3d(v[0], v[1], v[2]);
+  }
+  if (n["members"]) TPCAL_ASSIGN_OR_RETURN(f.members, rd.Strings(n["members"], what + " members"));
+  return f;
+}
+
+Result<CharacteristicSpec> ParseCharacteristic(const Reader& rd, const YAML::Node& n) {
+  CharacteristicSpec c;
+  c.line = Reader::Line(n);
+  if (!n.IsMap()) return rd.Error(n, "characteristic: expected a map of key: value");
+  if (!n["name"]) return rd.Error(n, "characteristic: missing key 'name'");
+  TPCAL_ASSIGN_OR_RETURN(c.name, rd.String(n["name"], "characteristic name"));
+  const std::string what = "characteristic '" + c.name + "'";
+  TPCAL_RETURN_IF_ERROR(rd.CheckMap(
+      n, what,
+      {"name", "type", "feature", "datum", "symbol", "description", "plane", "criterion", "nominal_radius_mm",
+       "nominal_diameter_mm", "nominal_distance_mm", "nominal_xy_mm", "nominal_xyz_mm", "nominal_angle_deg",
+       "first_angle_deg", "pitch_deg", "nominal_angles_deg"}));
+  if (!n["type"]) return rd.Error(n, what + ": missing key 'type'");
+  TPCAL_ASSIGN_OR_RETURN(c.type, rd.Enum<CharacteristicType>(n["type"], what + " type", ParseCharacteristicType,
+                                                             "concentricity, parallelism, squareness, circularity, "
+                                                             "flatness, straightness, position, plane_distance, size, "
+                                                             "hole_pattern"));
+  if (!n["feature"]) return rd.Error(n, what + ": missing key 'feature'");
+  TPCAL_ASSIGN_OR_RETURN(c.feature, rd.String(n["feature"], what + " feature"));
+  if (n["datum"]) TPCAL_ASSIGN_OR_RETURN(c.datum, rd.String(n["datum"], what + " datum"));
+  if (n["symbol"]) TPCAL_ASSIGN_OR_RETURN(c.symbol, rd.String(n["symbol"], what + " symbol"));
+  if (n["description"]) TPCAL_ASSIGN_OR_RETURN(c.description, rd.String(n["description"], what + " description"));
+  if (n["plane"])
+    TPCAL_ASSIGN_OR_RETURN(c.plane, rd.Enum<Projection>(n["plane"], what + " plane", ParseProjection,
+                                                        "datum_xy, datum_yz, datum_zx"));
+  if (n["criterion"]) {
+    FormCriterion crit{};
+    TPCAL_ASSIGN_OR_RETURN(crit, rd.Enum<FormCriterion>(n["criterion"], what + " criterion", ParseFormCriterion, "ls, mz"));
+    c.criterion = crit;
+  }
+  const std::vector<std::pair<const char*, std::optional<double>*>> scalars = {
+      {"nominal_radius_mm", &c.nominal_radius_mm}, {"nominal_diameter_mm", &c.nominal_diameter_mm},
+      {"nominal_distance_mm", &c.nominal_distance_mm}, {"nominal_angle_deg", &c.nominal_angle_deg},
+      {"first_angle_deg", &c.first_angle_deg}, {"pitch_deg", &c.pitch_deg}};
+  for (const auto& [key, dst] : scalars) {
+    if (!n[key]) continue;
+    double v = 0;
+    TPCAL_ASSIGN_OR_RETURN(v, rd.Number(n[key], what + " " + key));
+    *dst = v;
+  }
+  if (n["nominal_xy_mm"]) {
+    std::vector<double> v;
+    TPCAL_ASSIGN_OR_RETURN(v, rd.Numbers(n["nominal_xy_mm"], what + " nominal_xy_mm", 2));
+    c.nominal_xy_mm = Eigen::Vector2d(v[0], v[1]);
+  }
+  if (n["nominal_xyz_mm"]) {
+    std::vector<double> v;
+    TPCAL_ASSIGN_OR_RETURN(v, rd.Numbers(n["nominal_xyz_mm"], what + " nominal_xyz_mm", 3));
+    c.nominal_xyz_mm = Eigen::Vector3d(v[0], v[1], v[2]);
+  }
+  if (n["nominal_angles_deg"])
+    TPCAL_ASSIGN_OR_RETURN(c.nominal_angles_deg, rd.Numbers(n["nominal_angles_deg"], what + " nominal_angles_deg"));
+  return c;
+}
+
+Result<InspectionPlan> ParseDocument(const Reader& rd, const YAML::Node& root) {
+  InspectionPlan plan;
+  plan.source = rd.source();
+  if (!root || root.IsNull()) return Status(StatusCode::kParseError, "empty plan", rd.source());
+  TPCAL_RETURN_IF_ERROR(
+      rd.CheckMap(root, "plan", {"schema", "name", "description", "datum_frame", "features", "characteristics"}));
+  if (!root["schema"]) return rd.Error(root, std::string("plan: missing key 'schema' (") + kSchema + ")");
+  std::string schema;
+  TPCAL_ASSIGN_OR_RETURN(schema, rd.String(root["schema"], "plan schema"));
+  if (schema != kSchema)
+    return rd.Error(root["schema"], "plan schema: '" + schema + "' is not supported, expected " + kSchema);
+  if (root["name"]) TPCAL_ASSIGN_OR_RETURN(plan.name, rd.String(root["name"], "plan name"));
+  if (root["description"]) TPCAL_RETURN_IF_ERROR(rd.String(root["description"], "plan description"));
+  if (root["datum_frame"]) {
+    DatumFrameSpec d;
+    TPCAL_ASSIGN_OR_RETURN(d, ParseFrame(rd, root["datum_frame"]));
+    plan.datum_frame = d;
+  }
+  if (!root["features"]) return rd.Error(root, "plan: missing key 'features'");
+  const YAML::Node features = root["features"];
+  if (!features.IsMap() || features.size() == 0)
+    return rd.Error(features, "features: expected a map of FEATURE: {kind: ...}");
+  std::set<std::string> seen;
+  for (const auto& kv : features) {
+    FeatureSpec f;
+    TPCAL_ASSIGN_OR_RETURN(f, ParseFeature(rd, kv.first, kv.second, plan.datum_frame.has_value()));
+    if (!seen.insert(f.name).second) return rd.Error(kv.first, "feature '" + f.name + "' defined twice");
+    plan.features.push_back(std::move(f));
+  }
+  if (root["characteristics"]) {
+    const YAML::Node chars = root["characteristics"];
+    if (!chars.IsSequence()) return rd.Error(chars, "characteristics: expected a list of - {name: ..., type: ...}");
+    for (const auto& c : chars) {
+      CharacteristicSpec spec;
+      TPCAL_ASSIGN_OR_RETURN(spec, ParseCharacteristic(rd, c));
+      plan.characteristics.push_back(std::move(spec));
+    }
+  }
+  TPCAL_RETURN_IF_ERROR(ValidatePlan(plan));
+  return plan;
+}
+
+#undef TPCAL_ASSIGN_OR_RETURN
+
+}  // namespace
+
+Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::string& source) {
+  const Reader rd(source);
+  try {
+    const YAML::Node root = YAML::Load(std::string(text));
+    return ParseDocument(rd, root);
+  } catch (const YAML::Exception& e) {
+    const std::size_t line = e.mark.line < 0 ? 0 : static_cast<std::size_t>(e.mark.line) + 1;
+    return Status(StatusCode::kParseError, "YAML: " + e.msg, source, line);
+  }
+}
+
+Result<InspectionPlan> LoadInspectionPlan(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(StatusCode::kIoError, "cannot open inspection plan", path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return Status(StatusCode::kIoError, "cannot read inspection plan", path);
+  return ParseInspectionPlan(ss.str(), path);
+}
+
+}  // namespace tpcal::gdt
