@@ -1,0 +1,787 @@
+// Reader for the contract point CSV (and, with another tokenizer, plain xyz text): preamble
+// and header in the calling thread, data rows in parallel chunks. See point_text_parser.h.
+#include <fast_float/fast_float.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "core/units.h"
+#include "pipeline/file_bytes.h"
+#include "pipeline/point_io.h"
+#include "pipeline/point_text_parser.h"
+
+namespace tpcal::pipeline {
+namespace internal {
+namespace {
+
+constexpr double kZeroNormalLength = 1e-12;  // below this a normal has no direction
+// A normal whose length is this close to 1 is kept as read (bit-exact); farther (but within
+// options.normal_tolerance) it is divided by its length. The result of that division is
+// within a few ulp of unit length, so reading a written file again changes nothing.
+constexpr double kAlreadyUnit = 1e-14;
+constexpr std::size_t kMaxEcho = 40;  // characters of a bad cell quoted in a message
+
+enum class Role : std::uint8_t { kFeature, kX, kY, kZ, kI, kJ, kK, kAttribute, kIgnore };
+
+struct Layout {
+  std::vector<Role> roles;               // per column
+  std::vector<int> attr_of_column;       // attribute index per column, -1 if none
+  std::vector<std::string> names;        // per column, as written
+  std::vector<std::string> attr_names;   // per attribute
+  std::vector<std::size_t> attr_column;  // column of each attribute
+  bool has_normals = false;
+  std::string expected;  // e.g. "feature,x,y,z,i,j,k" or "x y z", for messages
+};
+
+struct Context {
+  TextDialect dialect;
+  const Layout* layout;
+  double scale;  // to mm
+  double normal_tolerance;
+  std::size_t first_data_line;  // 1-based line of the first line of the data region
+};
+
+inline bool IsBlank(char c) { return c == ' ' || c == '\t'; }
+inline bool IsXyzSep(char c) { return c == ' ' || c == '\t' || c == ','; }
+
+std::string_view TrimBlanks(std::string_view s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && IsBlank(s[b])) ++b;
+  while (e > b && IsBlank(s[e - 1])) --e;
+  return s.substr(b, e - b);
+}
+
+std::string Lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return out;
+}
+
+std::string Echo(std::string_view cell) {
+  if (cell.size() <= kMaxEcho) return fmt::format("'{}'", cell);
+  return fmt::format("'{}...'", cell.substr(0, kMaxEcho - 3));
+}
+
+// Whole-cell number: optional '+', then what std::from_chars accepts (fast_float).
+inline bool ParseNumber(const char* b, const char* e, double* out) {
+  if (b != e && *b == '+') {
+    ++b;
+    if (b == e || *b == '+' || *b == '-') return false;
+  }
+  if (b == e) return false;
+  auto r = fast_float::from_chars(b, e, *out);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+// A line that holds only blanks and separators (spreadsheets export empty rows as ",,,,").
+bool OnlySeparators(std::string_view line) {
+  for (char c : line)
+    if (!IsBlank(c) && c != ',') return false;
+  return true;
+}
+
+// ---- comments and directives -------------------------------------------------------------
+
+struct Directive {
+  enum class Kind { kNone, kUnits, kTag } kind = Kind::kNone;
+  LengthUnit unit = LengthUnit::kMm;
+  PointFileKind tag = PointFileKind::kUntagged;
+};
+
+// First word of a comment body and the rest after it.
+std::pair<std::string_view, std::string_view> FirstWord(std::string_view body) {
+  std::size_t e = 0;
+  while (e < body.size() && !IsBlank(body[e]) && body[e] != ':' && body[e] != '=') ++e;
+  return {body.substr(0, e), body.substr(e)};
+}
+
+bool IsUnitsDirective(std::string_view comment_body) {
+  return Lower(FirstWord(TrimBlanks(comment_body)).first) == "units";
+}
+
+// `body` is the comment without its '#'. Error message (empty if fine) through `error`.
+Directive ParseComment(std::string_view body, std::string* error) {
+  Directive d;
+  body = TrimBlanks(body);
+  auto [word, rest] = FirstWord(body);
+  const std::string lword = Lower(word);
+  if (lword == "units") {
+    rest = TrimBlanks(rest);
+    if (!rest.empty() && (rest.front() == ':' || rest.front() == '=')) rest.remove_prefix(1);
+    const std::string value = Lower(TrimBlanks(rest));
+    if (value == "mm") {
+      d.kind = Directive::Kind::kUnits;
+      d.unit = LengthUnit::kMm;
+    } else if (value == "in") {
+      d.kind = Directive::Kind::kUnits;
+      d.unit = LengthUnit::kInch;
+    } else {
+      *error = fmt::format("unknown unit {} in the units comment (expected '# units: mm' or "
+                           "'# units: in')", Echo(TrimBlanks(rest)));
+    }
+    return d;
+  }
+  if (lword == "tpcal") {
+    // A tag is exactly `tpcal <kind> v<digits>`; other comments that start with "tpcal" are
+    // ordinary comments.
+    std::vector<std::string_view> words;
+    std::string_view r = rest;
+    while (true) {
+      r = TrimBlanks(r);
+      if (r.empty()) break;
+      std::size_t e = 0;
+      while (e < r.size() && !IsBlank(r[e])) ++e;
+      words.push_back(r.substr(0, e));
+      r.remove_prefix(e);
+    }
+    if (words.size() != 2 || words[1].size() < 2 || (words[1][0] != 'v' && words[1][0] != 'V'))
+      return d;
+    for (std::size_t i = 1; i < words[1].size(); ++i)
+      if (words[1][i] < '0' || words[1][i] > '9') return d;
+    const std::string kind = Lower(words[0]);
+    const std::string version(words[1].substr(1));
+    if (kind == "points" && version == "1") {
+      d.kind = Directive::Kind::kTag;
+      d.tag = PointFileKind::kPoints;
+    } else if (kind == "plan" && version == "1") {
+      d.kind = Directive::Kind::kTag;
+      d.tag = PointFileKind::kPlan;
+    } else {
+      *error = fmt::format("unsupported format tag '{}' (this reader knows 'tpcal points v1' "
+                           "and 'tpcal plan v1')", body);
+    }
+  }
+  return d;
+}
+
+// ---- tokenizers (used for the header, in error paths and for text attributes) ------------
+
+// Splits a CSV line into trimmed, unquoted cells. Returns an error message or "".
+std::string SplitCsv(std::string_view line, std::vector<std::string_view>* cells) {
+  cells->clear();
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (true) {
+    while (i < n && IsBlank(line[i])) ++i;
+    if (i < n && line[i] == '"') {
+      const std::size_t close = line.find('"', i + 1);
+      if (close == std::string_view::npos)
+        return fmt::format("cell {} has an opening quote but no closing quote", cells->size() + 1);
+      cells->push_back(line.substr(i + 1, close - i - 1));
+      std::size_t j = close + 1;
+      while (j < n && IsBlank(line[j])) ++j;
+      if (j < n && line[j] == '"')
+        return fmt::format("cell {} contains a doubled quote (\"\"), which this reader does not "
+                           "support", cells->size());
+      if (j < n && line[j] != ',')
+        return fmt::format("cell {} has text after its closing quote", cells->size());
+      if (j == n) return "";
+      i = j + 1;
+    } else {
+      const std::size_t comma = line.find(',', i);
+      const std::size_t e = comma == std::string_view::npos ? n : comma;
+      cells->push_back(TrimBlanks(line.substr(i, e - i)));
+      if (comma == std::string_view::npos) return "";
+      i = comma + 1;
+    }
+  }
+}
+
+void SplitXyz(std::string_view line, std::vector<std::string_view>* cells) {
+  cells->clear();
+  std::size_t i = 0;
+  while (true) {
+    while (i < line.size() && IsXyzSep(line[i])) ++i;
+    if (i == line.size()) return;
+    std::size_t e = i;
+    while (e < line.size() && !IsXyzSep(line[e])) ++e;
+    cells->push_back(line.substr(i, e - i));
+    i = e;
+  }
+}
+
+// ---- header -------------------------------------------------------------------------------
+
+Result<Layout> ParseHeader(std::string_view line, const std::string& source, std::size_t line_no) {
+  auto error = [&](std::string msg) {
+    return Status(StatusCode::kParseError, std::move(msg), source, line_no);
+  };
+  std::vector<std::string_view> cells;
+  if (std::string e = SplitCsv(line, &cells); !e.empty()) return error("header: " + e);
+  Layout layout;
+  std::unordered_map<std::string, std::size_t> seen;  // lower-case name -> column
+  int found[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string_view name = cells[c];
+    const std::string lname = Lower(name);
+    layout.names.emplace_back(name);
+    layout.attr_of_column.push_back(-1);
+    if (name.empty()) {
+      if (c + 1 == cells.size() && c > 0) {  // trailing comma
+        layout.roles.push_back(Role::kIgnore);
+        continue;
+      }
+      return error(fmt::format("header column {} has no name (expected names such as "
+                               "feature,x,y,z)", c + 1));
+    }
+    if (auto [it, inserted] = seen.emplace(lname, c); !inserted)
+      return error(fmt::format("duplicate header column '{}' (columns {} and {})", name,
+                               it->second + 1, c + 1));
+    static constexpr const char* kKnown[7] = {"feature", "x", "y", "z", "i", "j", "k"};
+    Role role = Role::kAttribute;
+    for (int r = 0; r < 7; ++r) {
+      if (lname == kKnown[r]) {
+        role = static_cast<Role>(r);
+        found[r] = 1;
+      }
+    }
+    if (role == Role::kAttribute) {
+      layout.attr_of_column.back() = static_cast<int>(layout.attr_names.size());
+      layout.attr_names.emplace_back(name);
+      layout.attr_column.push_back(c);
+    }
+    layout.roles.push_back(role);
+  }
+  static constexpr const char* kRequired[4] = {"feature", "x", "y", "z"};
+  for (int r = 0; r < 4; ++r) {
+    if (!found[r])
+      return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "
+                               "in any order, optionally i,j,k; got '{}')",
+                               kRequired[r], TrimBlanks(line)));
+  }
+  const int n_normal = found[4] + found[5] + found[6];
+  if (n_normal != 0 && n_normal != 3) {
+    std::string have, lack;
+    for (int r = 4; r < 7; ++r) {
+      std::string& dst = found[r] ? have : lack;
+      if (!dst.empty()) dst += ",";
+      dst += "ijk"[r - 4];
+    }
+    return error(fmt::format("header has normal column(s) {} but not {} (normals need all of "
+                             "i,j,k)", have, lack));
+  }
+  layout.has_normals = n_normal == 3;
+  layout.expected = layout.has_normals ? "feature,x,y,z,i,j,k" : "feature,x,y,z";
+  for (const auto& a : layout.attr_names) layout.expected += "," + a;
+  return layout;
+}
+
+Layout XyzLayout(std::size_t ncols) {
+  Layout layout;
+  for (std::size_t c = 0; c < ncols; ++c) {
+    layout.roles.push_back(static_cast<Role>(static_cast<int>(Role::kX) + static_cast<int>(c)));
+    layout.attr_of_column.push_back(-1);
+    layout.names.emplace_back(1, "xyzijk"[c]);
+  }
+  layout.has_normals = ncols == 6;
+  layout.expected = layout.has_normals ? "x y z i j k" : "x y z";
+  return layout;
+}
+
+// ---- chunk parsing ----------------------------------------------------------------------
+
+struct ChunkOut {
+  std::vector<Eigen::Vector3d> xyz;
+  std::vector<Eigen::Vector3d> normal;
+  std::vector<int> feature;             // chunk-local feature ids
+  std::vector<std::size_t> line;        // chunk-local 0-based line index
+  std::vector<std::string_view> names;  // chunk-local feature names, first appearance order
+  std::vector<std::vector<double>> attr;
+  std::vector<char> attr_text;  // attribute had a non-numeric cell in this chunk
+  std::size_t lines = 0;        // lines consumed
+  bool failed = false;
+  std::size_t error_line = 0;   // chunk-local 0-based
+  std::string error;
+};
+
+enum class LineResult { kPoint, kSkip, kError };
+
+// Error path for a data row: decides between "skip" (a row of separators only), a cell-count
+// error, and the specific cell error `cell_error` (may be empty if the count must be wrong).
+LineResult RowError(std::string_view line, const Context& ctx, std::string cell_error,
+                    ChunkOut* out) {
+  if (OnlySeparators(line)) return LineResult::kSkip;
+  std::vector<std::string_view> cells;
+  const std::size_t ncols = ctx.layout->roles.size();
+  if (ctx.dialect == TextDialect::kCsv) {
+    if (std::string e = SplitCsv(line, &cells); !e.empty()) {
+      out->error = std::move(e);
+      return LineResult::kError;
+    }
+    if (cells.size() != ncols) {
+      out->error = fmt::format("row has {} cells, header has {} ({})", cells.size(), ncols,
+                               ctx.layout->expected);
+      return LineResult::kError;
+    }
+  } else {
+    SplitXyz(line, &cells);
+    if (cells.size() != ncols) {
+      out->error = fmt::format("line has {} values, expected {} ({}) as on the first data line "
+                               "(line {})", cells.size(), ncols, ctx.layout->expected,
+                               ctx.first_data_line);
+      return LineResult::kError;
+    }
+  }
+  out->error = std::move(cell_error);
+  return LineResult::kError;
+}
+
+std::string NumberError(const Layout& layout, std::size_t col, std::string_view cell) {
+  const std::string& name = layout.names[col];
+  if (cell.empty()) return fmt::format("column '{}': expected a number, got an empty cell", name);
+  double v;
+  if (ParseNumber(cell.data(), cell.data() + cell.size(), &v) && !std::isfinite(v))
+    return fmt::format("column '{}': expected a finite number, got {}", name, Echo(cell));
+  return fmt::format("column '{}': expected a number, got {}", name, Echo(cell));
+}
+
+class ChunkParser {
+ public:
+  ChunkParser(const Context& ctx, ChunkOut* out) : ctx_(ctx), layout_(*ctx.layout), out_(out) {
+    const std::size_t na = layout_.attr_names.size();
+    out_->attr.assign(na, {});
+    out_->attr_text.assign(na, 0);
+    row_attr_.assign(na, 0.0);
+    row_attr_bad_.assign(na, 0);
+  }
+
+  template <TextDialect D>
+  void Run(std::string_view text) {
+    const char* p = text.data();
+    const char* const end = p + text.size();
+    li_ = 0;
+    while (p < end) {
+      const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      const char* le = nl ? nl : end;
+      const char* next = nl ? nl + 1 : end;
+      if (le > p && le[-1] == '\r') --le;
+      if (ParseLine<D>(p, le) == LineResult::kError) {
+        out_->failed = true;
+        out_->error_line = li_;
+        out_->lines = li_;
+        return;
+      }
+      p = next;
+      ++li_;
+    }
+    out_->lines = li_;
+  }
+
+ private:
+  int Intern(std::string_view name) {
+    if (name.empty()) return PointSet::kUnlabelled;
+    if (have_last_ && name == last_name_) return last_id_;
+    auto [it, inserted] = ids_.try_emplace(name, static_cast<int>(out_->names.size()));
+    if (inserted) out_->names.push_back(name);
+    have_last_ = true;
+    last_name_ = name;
+    last_id_ = it->second;
+    return last_id_;
+  }
+
+  template <TextDialect D>
+  LineResult ParseLine(const char* p, const char* le) {
+    const char* q = p;
+    while (q < le && IsBlank(*q)) ++q;
+    if (q == le) return LineResult::kSkip;
+    const std::string_view line(p, static_cast<std::size_t>(le - p));
+    if (*q == '#') {
+      if (IsUnitsDirective(std::string_view(q + 1, static_cast<std::size_t>(le - q - 1)))) {
+        out_->error = fmt::format("units comment after the {}: '# units:' must come before it",
+                                  D == TextDialect::kCsv ? "header" : "first data line");
+        return LineResult::kError;
+      }
+      return LineResult::kSkip;
+    }
+    const std::size_t ncols = layout_.roles.size();
+    double v[6] = {0, 0, 0, 0, 0, 0};
+    int feature = PointSet::kUnlabelled;
+    const char* c = p;
+    for (std::size_t col = 0; col < ncols; ++col) {
+      const char* cb;
+      const char* ce;
+      if constexpr (D == TextDialect::kCsv) {
+        while (c < le && IsBlank(*c)) ++c;
+        const char* after;
+        if (c < le && *c == '"') {
+          const char* close = static_cast<const char*>(
+              std::memchr(c + 1, '"', static_cast<std::size_t>(le - c - 1)));
+          if (!close) return RowError(line, ctx_, "", out_);
+          cb = c + 1;
+          ce = close;
+          after = close + 1;
+          while (after < le && IsBlank(*after)) ++after;
+          if (after < le && *after != ',') return RowError(line, ctx_, "", out_);
+        } else {
+          cb = c;
+          const char* comma = static_cast<const char*>(
+              std::memchr(c, ',', static_cast<std::size_t>(le - c)));
+          after = comma ? comma : le;
+          ce = after;
+          while (ce > cb && IsBlank(ce[-1])) --ce;
+        }
+        if (col + 1 < ncols) {
+          if (after == le) return RowError(line, ctx_, "", out_);
+          c = after + 1;
+        } else if (after != le) {
+          return RowError(line, ctx_, "", out_);
+        }
+      } else {
+        while (c < le && IsXyzSep(*c)) ++c;
+        if (c == le) return RowError(line, ctx_, "", out_);
+        cb = c;
+        while (c < le && !IsXyzSep(*c)) ++c;
+        ce = c;
+        if (col + 1 == ncols) {
+          while (c < le && IsXyzSep(*c)) ++c;
+          if (c != le) return RowError(line, ctx_, "", out_);
+        }
+      }
+      const Role role = layout_.roles[col];
+      switch (role) {
+        case Role::kFeature:
+          feature = Intern(std::string_view(cb, static_cast<std::size_t>(ce - cb)));
+          break;
+        case Role::kAttribute: {
+          const int a = layout_.attr_of_column[col];
+          if (!out_->attr_text[a]) {
+            double x = 0.0;
+            row_attr_bad_[a] = !(ParseNumber(cb, ce, &x) && std::isfinite(x));
+            row_attr_[a] = x;
+          }
+          break;
+        }
+        case Role::kIgnore:
+          break;
+        default: {
+          double& x = v[static_cast<int>(role) - static_cast<int>(Role::kX)];
+          if (!ParseNumber(cb, ce, &x) || !std::isfinite(x))
+            return RowError(line, ctx_,
+                            NumberError(layout_, col, std::string_view(cb, static_cast<std::size_t>(ce - cb))),
+                            out_);
+        }
+      }
+    }
+    if (layout_.has_normals) {
+      Eigen::Vector3d n(v[3], v[4], v[5]);
+      const double len = n.norm();
+      if (len < kZeroNormalLength) {
+        out_->error = fmt::format("normal (i,j,k) = ({:g},{:g},{:g}) has zero length; expected a "
+                                  "unit vector", v[3], v[4], v[5]);
+        return LineResult::kError;
+      }
+      const double dev = std::abs(len - 1.0);
+      if (dev > ctx_.normal_tolerance) {
+        out_->error = fmt::format("normal (i,j,k) = ({:g},{:g},{:g}) has length {:.6g}; expected "
+                                  "a unit vector (length within {:g} of 1)",
+                                  v[3], v[4], v[5], len, ctx_.normal_tolerance);
+        return LineResult::kError;
+      }
+      if (dev > kAlreadyUnit) n /= len;
+      out_->normal.push_back(n);
+    }
+    out_->xyz.emplace_back(v[0] * ctx_.scale, v[1] * ctx_.scale, v[2] * ctx_.scale);
+    out_->feature.push_back(feature);
+    out_->line.push_back(li_);
+    for (std::size_t a = 0; a < row_attr_.size(); ++a) {
+      if (out_->attr_text[a]) continue;
+      if (row_attr_bad_[a]) {
+        out_->attr_text[a] = 1;
+        std::vector<double>().swap(out_->attr[a]);
+      } else {
+        out_->attr[a].push_back(row_attr_[a]);
+      }
+    }
+    return LineResult::kPoint;
+  }
+
+ private:
+  const Context& ctx_;
+  const Layout& layout_;
+  ChunkOut* out_;
+  std::unordered_map<std::string_view, int> ids_;
+  bool have_last_ = false;
+  std::string_view last_name_;
+  int last_id_ = PointSet::kUnlabelled;
+  std::vector<double> row_attr_;
+  std::vector<char> row_attr_bad_;
+  std::size_t li_ = 0;  // chunk-local 0-based index of the current line
+};
+
+
+// ---- preamble: comments, directives, header -----------------------------------------------
+
+struct Preamble {
+  LengthUnit units = LengthUnit::kMm;
+  PointFileKind kind = PointFileKind::kUntagged;
+  Layout layout;
+  std::size_t data_begin = 0;       // byte offset of the data region
+  std::size_t data_first_line = 0;  // 1-based line number of its first line
+  std::size_t header_line = 0;      // CSV: the header; xyz: the first data line
+};
+
+Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
+                              TextDialect dialect, LengthUnit default_units) {
+  auto error = [&](std::string msg, std::size_t line_no) {
+    return Status(StatusCode::kParseError, std::move(msg), source, line_no);
+  };
+  Preamble pre;
+  pre.units = default_units;
+  std::size_t units_line = 0;
+  std::size_t pos = 0;
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;  // UTF-8 byte-order mark
+  const bool empty = pos == text.size();
+  for (std::size_t line_no = 1; pos < text.size(); ++line_no) {
+    const std::size_t nl = text.find('\n', pos);
+    const std::size_t le = nl == std::string_view::npos ? text.size() : nl;
+    const std::size_t next = nl == std::string_view::npos ? text.size() : nl + 1;
+    std::string_view line = text.substr(pos, le - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.find('\r') != std::string_view::npos)
+      return error("line ends are bare CR characters (classic Mac); expected LF or CRLF", line_no);
+    const std::string_view trimmed = TrimBlanks(line);
+    const bool blank = dialect == TextDialect::kXyz ? OnlySeparators(line) : trimmed.empty();
+    if (blank) {
+      pos = next;
+      continue;
+    }
+    if (trimmed.front() == '#') {
+      std::string message;
+      const Directive d = ParseComment(trimmed.substr(1), &message);
+      if (!message.empty()) return error(message, line_no);
+      if (d.kind == Directive::Kind::kUnits) {
+        if (units_line != 0 && d.unit != pre.units)
+          return error(fmt::format("conflicting units comments (line {} says {})", units_line,
+                                   pre.units == LengthUnit::kMm ? "mm" : "in"),
+                       line_no);
+        pre.units = d.unit;
+        units_line = line_no;
+      } else if (d.kind == Directive::Kind::kTag) {
+        pre.kind = d.tag;
+      }
+      pos = next;
+      continue;
+    }
+    pre.header_line = line_no;
+    if (dialect == TextDialect::kCsv) {
+      Result<Layout> layout = ParseHeader(line, source, line_no);
+      if (!layout.ok()) return layout.status();
+      pre.layout = std::move(*layout);
+      pre.data_begin = next;
+      pre.data_first_line = line_no + 1;
+    } else {
+      std::vector<std::string_view> cells;
+      SplitXyz(line, &cells);
+      if (cells.size() != 3 && cells.size() != 6)
+        return error(fmt::format("expected 3 values (x y z) or 6 (x y z i j k) per line, got {}",
+                                 cells.size()),
+                     line_no);
+      pre.layout = XyzLayout(cells.size());
+      pre.data_begin = pos;
+      pre.data_first_line = line_no;
+    }
+    return pre;
+  }
+  if (dialect == TextDialect::kCsv) {
+    if (empty)
+      return error("empty file: expected a header line such as 'feature,x,y,z' and data rows", 0);
+    return error("no header: the file has only comments and blank lines; expected a header "
+                 "line such as 'feature,x,y,z' and data rows", 0);
+  }
+  return error(empty ? "empty file: expected lines of x y z [i j k]"
+                     : "no points: the file has only comments and blank lines; expected lines "
+                       "of x y z [i j k]",
+               0);
+}
+
+// ---- chunking, threads, merge -------------------------------------------------------------
+
+int ResolveThreads(int threads) {
+  if (threads > 0) return threads;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Splits `data` into at most `n` pieces of at least `min_bytes`, each starting a line.
+std::vector<std::string_view> SplitChunks(std::string_view data, int n, std::size_t min_bytes) {
+  const std::size_t want = std::max<std::size_t>(
+      1, std::min<std::size_t>(static_cast<std::size_t>(n), data.size() / std::max<std::size_t>(1, min_bytes)));
+  std::vector<std::size_t> starts{0};
+  for (std::size_t k = 1; k < want; ++k) {
+    const std::size_t target = data.size() / want * k;
+    if (target <= starts.back()) continue;
+    const std::size_t nl = data.find('\n', target);
+    if (nl == std::string_view::npos || nl + 1 >= data.size()) break;
+    if (nl + 1 > starts.back()) starts.push_back(nl + 1);
+  }
+  std::vector<std::string_view> chunks;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const std::size_t e = k + 1 < starts.size() ? starts[k + 1] : data.size();
+    chunks.push_back(data.substr(starts[k], e - starts[k]));
+  }
+  return chunks;
+}
+
+// Runs fn(k) for k in [0, n): k = 0 on the calling thread, the others on their own threads.
+template <typename Fn>
+void RunParallel(std::size_t n, Fn fn) {
+  std::vector<std::thread> threads;
+  threads.reserve(n > 0 ? n - 1 : 0);
+  for (std::size_t k = 1; k < n; ++k) threads.emplace_back(fn, k);
+  if (n > 0) fn(0);
+  for (auto& t : threads) t.join();
+}
+
+// Re-reads a chunk for the attributes kept as text (their numeric parse failed somewhere).
+void ExtractText(std::string_view chunk, const Layout& layout, const std::vector<int>& text_attrs,
+                 std::size_t offset, std::vector<PointAttribute>* attributes) {
+  std::vector<std::string_view> cells;
+  std::size_t pos = 0, idx = offset;
+  while (pos < chunk.size()) {
+    const std::size_t nl = chunk.find('\n', pos);
+    const std::size_t le = nl == std::string_view::npos ? chunk.size() : nl;
+    std::string_view line = chunk.substr(pos, le - pos);
+    pos = nl == std::string_view::npos ? chunk.size() : nl + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (OnlySeparators(line)) continue;
+    if (TrimBlanks(line).front() == '#') continue;
+    SplitCsv(line, &cells);  // cannot fail: the line parsed
+    for (int a : text_attrs)
+      (*attributes)[static_cast<std::size_t>(a)].text[idx] = std::string(cells[layout.attr_column[a]]);
+    ++idx;
+  }
+}
+
+}  // namespace
+
+Result<PointFile> ParsePointText(std::string_view text, const std::string& source,
+                                 TextDialect dialect, const PointReadOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  // The contract fixes mm as the CSV default; xyz text follows the caller's assumption.
+  Result<Preamble> pre_or = ReadPreamble(
+      text, source, dialect, dialect == TextDialect::kCsv ? LengthUnit::kMm : options.assumed_units);
+  if (!pre_or.ok()) return pre_or.status();
+  const Preamble& pre = *pre_or;
+  const Layout& layout = pre.layout;
+  const Context ctx{dialect, &layout, pre.units == LengthUnit::kInch ? kMmPerInch : 1.0,
+                    options.normal_tolerance, pre.data_first_line};
+
+  const std::string_view data = text.substr(pre.data_begin);
+  const std::vector<std::string_view> chunks =
+      SplitChunks(data, ResolveThreads(options.threads), options.min_chunk_bytes);
+  std::vector<ChunkOut> outs(chunks.size());
+  RunParallel(chunks.size(), [&](std::size_t k) {
+    try {
+      ChunkParser parser(ctx, &outs[k]);
+      if (dialect == TextDialect::kCsv)
+        parser.Run<TextDialect::kCsv>(chunks[k]);
+      else
+        parser.Run<TextDialect::kXyz>(chunks[k]);
+    } catch (const std::exception& e) {  // std::bad_alloc on huge inputs
+      outs[k].failed = true;
+      outs[k].error = fmt::format("cannot parse: {}", e.what());
+    }
+  });
+
+  // First error in file order; line numbers of chunk k start after all lines of chunks < k.
+  std::vector<std::size_t> base(chunks.size()), offset(chunks.size());
+  std::size_t next_line = pre.data_first_line, total = 0;
+  for (std::size_t k = 0; k < chunks.size(); ++k) {
+    base[k] = next_line;
+    if (outs[k].failed)
+      return Status(StatusCode::kParseError, outs[k].error, source, base[k] + outs[k].error_line);
+    next_line += outs[k].lines;
+    offset[k] = total;
+    total += outs[k].xyz.size();
+  }
+  if (total == 0) {
+    return Status(StatusCode::kParseError,
+                  dialect == TextDialect::kCsv
+                      ? "no points: expected at least one data row after the header"
+                      : "no points: expected lines of x y z [i j k]",
+                  source, pre.header_line);
+  }
+
+  PointFile file;
+  file.info.format = dialect == TextDialect::kCsv ? PointFormat::kCsv : PointFormat::kXyz;
+  file.info.kind = pre.kind;
+  file.info.source_units = pre.units;
+  file.info.bytes = text.size();
+  file.info.chunks = static_cast<int>(chunks.size());
+  PointSet& ps = file.points;
+  ps.source = source;
+
+  // Features: global ids in order of first appearance in the file.
+  std::unordered_map<std::string_view, int> global_ids;
+  std::vector<std::vector<int>> local_to_global(chunks.size());
+  for (std::size_t k = 0; k < chunks.size(); ++k) {
+    for (std::string_view name : outs[k].names) {
+      auto [it, inserted] = global_ids.try_emplace(name, static_cast<int>(ps.feature_names.size()));
+      if (inserted) ps.feature_names.emplace_back(name);
+      local_to_global[k].push_back(it->second);
+    }
+  }
+  const std::size_t n_attr = layout.attr_names.size();
+  std::vector<int> text_attrs;
+  for (std::size_t a = 0; a < n_attr; ++a) {
+    bool text_col = false;
+    for (const auto& o : outs) text_col = text_col || o.attr_text[a];
+    PointAttribute attr;
+    attr.name = layout.attr_names[a];
+    if (text_col) {
+      attr.text.resize(total);
+      text_attrs.push_back(static_cast<int>(a));
+    } else {
+      attr.values.resize(total);
+    }
+    ps.attributes.push_back(std::move(attr));
+  }
+  ps.xyz_mm.resize(total);
+  if (layout.has_normals) ps.normal.resize(total);
+  ps.feature.resize(total);
+  ps.line.resize(total);
+
+  RunParallel(chunks.size(), [&](std::size_t k) {
+    ChunkOut& o = outs[k];
+    const std::size_t off = offset[k];
+    std::copy(o.xyz.begin(), o.xyz.end(), ps.xyz_mm.begin() + static_cast<std::ptrdiff_t>(off));
+    if (layout.has_normals)
+      std::copy(o.normal.begin(), o.normal.end(), ps.normal.begin() + static_cast<std::ptrdiff_t>(off));
+    const std::vector<int>& map = local_to_global[k];
+    for (std::size_t i = 0; i < o.feature.size(); ++i) {
+      const int f = o.feature[i];
+      ps.feature[off + i] = f == PointSet::kUnlabelled ? f : map[static_cast<std::size_t>(f)];
+      ps.line[off + i] = base[k] + o.line[i];
+    }
+    for (std::size_t a = 0; a < n_attr; ++a) {
+      if (!ps.attributes[a].values.empty())
+        std::copy(o.attr[a].begin(), o.attr[a].end(),
+                  ps.attributes[a].values.begin() + static_cast<std::ptrdiff_t>(off));
+    }
+    if (!text_attrs.empty()) ExtractText(chunks[k], layout, text_attrs, off, &ps.attributes);
+    o = ChunkOut();  // release chunk memory early
+  });
+  return file;
+}
+
+}  // namespace internal
+
+Result<PointFile> ParsePointCsv(std::string_view text, const std::string& source_name,
+                                const PointReadOptions& options) {
+  return internal::ParsePointText(text, source_name, internal::TextDialect::kCsv, options);
+}
+
+Result<PointFile> ReadPointCsv(const std::string& path, const PointReadOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  Result<FileBytes> bytes = ReadFileBytes(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParsePointCsv(bytes->view(), path, options);
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,99 @@
+// Format dispatch, option validation and small helpers of point_io.h.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "pipeline/point_io.h"
+
+namespace tpcal::pipeline {
+
+const char* PointFormatName(PointFormat format) {
+  switch (format) {
+    case PointFormat::kAuto: return "auto";
+    case PointFormat::kCsv: return "csv";
+    case PointFormat::kPly: return "ply";
+    case PointFormat::kPcd: return "pcd";
+    case PointFormat::kXyz: return "xyz";
+  }
+  return "unknown";
+}
+
+const char* CacheOutcomeName(CacheOutcome outcome) {
+  switch (outcome) {
+    case CacheOutcome::kNotUsed: return "not used";
+    case CacheOutcome::kHit: return "hit";
+    case CacheOutcome::kMissing: return "missing";
+    case CacheOutcome::kStale: return "stale";
+    case CacheOutcome::kCorrupt: return "corrupt";
+  }
+  return "unknown";
+}
+
+PointFormat PointFormatFromExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  if (ext == ".csv") return PointFormat::kCsv;
+  if (ext == ".ply") return PointFormat::kPly;
+  if (ext == ".pcd") return PointFormat::kPcd;
+  if (ext == ".xyz" || ext == ".txt") return PointFormat::kXyz;
+  return PointFormat::kAuto;
+}
+
+Status PointReadOptions::Validate() const {
+  if (threads < 0)
+    return Status(StatusCode::kInvalidArgument,
+                  fmt::format("threads = {}: expected 0 (all hardware threads) or more", threads));
+  if (!(normal_tolerance >= 0.0 && normal_tolerance < 1.0))
+    return Status(StatusCode::kInvalidArgument,
+                  fmt::format("normal_tolerance = {}: expected a value in [0, 1)", normal_tolerance));
+  return Status::Ok();
+}
+
+Status PointWriteOptions::Validate() const {
+  if (fixed_decimals < -1 || fixed_decimals > 17)
+    return Status(StatusCode::kInvalidArgument,
+                  fmt::format("fixed_decimals = {}: expected -1 (shortest exact) or 0..17",
+                              fixed_decimals));
+  if (kind == PointFileKind::kUntagged)
+    return Status(StatusCode::kInvalidArgument,
+                  "written point files are always tagged: kind must be kPoints or kPlan");
+  return Status::Ok();
+}
+
+Result<PointFile> ReadPointFile(const std::string& path, const PointReadOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  PointFormat format = options.format;
+  if (format == PointFormat::kAuto) format = PointFormatFromExtension(path);
+  switch (format) {
+    case PointFormat::kCsv: return ReadPointCsv(path, options);
+    case PointFormat::kPly: return ReadPointPly(path, options);
+    case PointFormat::kPcd: return ReadPointPcd(path, options);
+    case PointFormat::kXyz: return ReadPointXyz(path, options);
+    case PointFormat::kAuto: break;
+  }
+  return Status(StatusCode::kInvalidArgument,
+                fmt::format("unknown point file extension '{}': expected .csv, .ply, .pcd, .xyz "
+                            "or .txt (or give the format explicitly)",
+                            std::filesystem::path(path).extension().string()),
+                path);
+}
+
+Result<PointSet> ReadPoints(const std::string& path, const PointReadOptions& options) {
+  Result<PointFile> file = ReadPointFile(path, options);
+  if (!file.ok()) return file.status();
+  return std::move(file->points);
+}
+
+std::size_t FirstLineOfFeature(const PointSet& points, int feature_index) {
+  for (std::size_t i = 0; i < points.feature.size(); ++i)
+    if (points.feature[i] == feature_index) return points.LineOf(i);
+  return 0;
+}
+
+Status AtFeature(const PointSet& points, int feature_index, const Status& status) {
+  return status.WithLocation(points.source, FirstLineOfFeature(points, feature_index));
+}
+
+}  // namespace tpcal::pipeline
