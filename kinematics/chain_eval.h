@@ -164,13 +164,12 @@ struct ChainScratch {
   std::vector<double> weights;
 };
 
-// See the file comment. `active` must index coefficients of `errors`.
+// part_from_tool with the active coefficients at x (see the file comment). `active` must index
+// coefficients of `errors`.
 template <typename T>
-Eigen::Matrix<T, 3, 1> ToolPointInPartT(const MachineModel& model, const ErrorState& errors,
-                                        const ActiveSet& active, const T* x,
-                                        const AxisState& axes,
-                                        const Eigen::Vector3d& contact_in_tool_mm,
-                                        ChainScratch* scratch) {
+PoseT<T> PartFromToolT(const MachineModel& model, const ErrorState& errors,
+                       const ActiveSet& active, const T* x, const AxisState& axes,
+                       ChainScratch* scratch) {
   EvaluateLinkErrors(errors, axes, &scratch->link_errors, &scratch->basis);
   std::array<LinkErrorsT<T>, kMaxLinks> e;
   for (int l = 0; l < model.num_links(); ++l) {
@@ -195,8 +194,18 @@ Eigen::Matrix<T, 3, 1> ToolPointInPartT(const MachineModel& model, const ErrorSt
   }
   const std::array<T, kNumAxes> q = {T(axes.x_mm),  T(axes.y_mm),  T(axes.z_mm),
                                      T(axes.a_rad), T(axes.b_rad), T(axes.c_rad)};
-  const PoseT<T> part_from_tool = PartFromToolT<T>(model, e.data(), q.data());
-  return part_from_tool * contact_in_tool_mm.cast<T>();
+  return PartFromToolT<T>(model, e.data(), q.data());
+}
+
+// The tool point `contact_in_tool_mm` in the part frame, active coefficients at x.
+template <typename T>
+Eigen::Matrix<T, 3, 1> ToolPointInPartT(const MachineModel& model, const ErrorState& errors,
+                                        const ActiveSet& active, const T* x,
+                                        const AxisState& axes,
+                                        const Eigen::Vector3d& contact_in_tool_mm,
+                                        ChainScratch* scratch) {
+  return PartFromToolT<T>(model, errors, active, x, axes, scratch) *
+         Eigen::Matrix<T, 3, 1>(contact_in_tool_mm.cast<T>());
 }
 
 }  // namespace tpcal::kinematics

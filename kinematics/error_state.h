@@ -37,6 +37,7 @@ struct ErrorTerm {
   // Stem of the coefficient names: a catalog parameter ("E_X0C"), or an ISO error-motion symbol
   // with its condition ("E_XC@A=0"). Coefficient names are label + suffix (see ErrorState).
   std::string label;
+  std::vector<std::string> aliases;  // kConstant from the catalog: accepted alternative names
   Quantity quantity = Quantity::kLength;  // dimension of the term value (mm or rad)
   std::vector<SlotEffect> effects;
   Condition condition;

@@ -1,0 +1,148 @@
+// Small yaml-cpp helpers for the kinematics YAML readers (included by .cc files only; yaml-cpp
+// stays out of the public headers). Every failure is a kParseError with the file and the 1-based
+// line of the offending node.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace tpcal::kinematics::yaml_internal {
+
+inline std::size_t Line(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  return m.line >= 0 ? static_cast<std::size_t>(m.line) + 1 : 0;
+}
+
+inline Status Error(const std::string& source, const YAML::Node& n, const std::string& message) {
+  return Status(StatusCode::kParseError, message, source, Line(n));
+}
+
+// Keys of a map in document order, with their key nodes (for line numbers).
+struct MapEntry {
+  std::string key;
+  YAML::Node key_node;
+  YAML::Node value;
+};
+inline Result<std::vector<MapEntry>> Entries(const std::string& source, const YAML::Node& map,
+                                             const std::string& what) {
+  if (!map.IsMap()) return Error(source, map, what + ": expected a map");
+  std::vector<MapEntry> out;
+  std::set<std::string> seen;
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    if (!it->first.IsScalar()) return Error(source, it->first, what + ": keys must be plain names");
+    const std::string key = it->first.Scalar();
+    if (!seen.insert(key).second) {
+      return Error(source, it->first, what + ": duplicate key '" + key + "'");
+    }
+    out.push_back(MapEntry{key, it->first, it->second});
+  }
+  return out;
+}
+
+// Fails on the first key not in `allowed`.
+inline Status CheckKeys(const std::string& source, const std::vector<MapEntry>& entries,
+                        const std::set<std::string>& allowed, const std::string& what) {
+  for (const MapEntry& e : entries) {
+    if (!allowed.count(e.key)) {
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      return Error(source, e.key_node, "unknown key '" + e.key + "' in " + what + " (expected: " + list + ")");
+    }
+  }
+  return Status::Ok();
+}
+
+inline const MapEntry* Find(const std::vector<MapEntry>& entries, const std::string& key) {
+  for (const MapEntry& e : entries) {
+    if (e.key == key) return &e;
+  }
+  return nullptr;
+}
+
+inline Result<double> Double(const std::string& source, const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar()) return Error(source, n, what + ": expected a number");
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    return Error(source, n, what + ": expected a number, got '" + n.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) return Error(source, n, what + ": expected a finite number");
+  return v;
+}
+
+inline Result<int> Int(const std::string& source, const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar()) return Error(source, n, what + ": expected an integer");
+  try {
+    return n.as<int>();
+  } catch (const YAML::Exception&) {
+    return Error(source, n, what + ": expected an integer, got '" + n.Scalar() + "'");
+  }
+}
+
+inline Result<bool> Bool(const std::string& source, const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar()) return Error(source, n, what + ": expected true or false");
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    return Error(source, n, what + ": expected true or false, got '" + n.Scalar() + "'");
+  }
+}
+
+inline Result<std::string> String(const std::string& source, const YAML::Node& n,
+                                  const std::string& what) {
+  if (!n.IsScalar()) return Error(source, n, what + ": expected a text value");
+  return n.Scalar();
+}
+
+inline Result<std::vector<double>> Doubles(const std::string& source, const YAML::Node& n,
+                                           const std::string& what) {
+  if (!n.IsSequence()) return Error(source, n, what + ": expected a list of numbers");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    Result<double> v = Double(source, n[i], what + "[" + std::to_string(i) + "]");
+    TPCAL_RETURN_IF_ERROR(v);
+    out.push_back(*v);
+  }
+  return out;
+}
+
+inline Result<Eigen::Vector3d> Vector3(const std::string& source, const YAML::Node& n,
+                                       const std::string& what) {
+  Result<std::vector<double>> v = Doubles(source, n, what);
+  TPCAL_RETURN_IF_ERROR(v);
+  if (v->size() != 3) return Error(source, n, what + ": expected [x, y, z]");
+  return Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]);
+}
+
+// Parses text; a YAML syntax error becomes a kParseError at its line.
+inline Result<YAML::Node> Parse(const std::string& text, const std::string& source) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source,
+                  e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
+  } catch (const YAML::Exception& e) {
+    return Status(StatusCode::kParseError, std::string("YAML: ") + e.what(), source);
+  }
+}
+
+inline Result<std::string> ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(StatusCode::kIoError, "cannot open file", path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return Status(StatusCode::kIoError, "cannot read file", path);
+  return ss.str();
+}
+
+}  // namespace tpcal::kinematics::yaml_internal

@@ -1,0 +1,80 @@
+#include "kinematics/jacobians.h"
+
+#include <ceres/jet.h>
+
+#include <vector>
+
+#include "kinematics/chain_eval.h"
+
+namespace tpcal::kinematics {
+
+namespace {
+
+constexpr int kChunk = 8;
+using Jet = ceres::Jet<double, kChunk>;
+
+// Seeds derivative slots for active entries [begin, begin + kChunk).
+std::vector<Jet> Seed(const ErrorState& errors, const ActiveSet& active, int begin) {
+  std::vector<Jet> x(active.size());
+  for (int j = 0; j < active.size(); ++j) {
+    x[j] = Jet(errors.coefficient(active.coefficients[j]));
+    if (j >= begin && j < begin + kChunk) x[j].v[j - begin] = 1.0;
+  }
+  return x;
+}
+
+}  // namespace
+
+Eigen::Vector3d ToolPointJacobian(const MachineModel& model, const ErrorState& errors,
+                                  const ActiveSet& active, const AxisState& axes,
+                                  const Eigen::Vector3d& contact_in_tool_mm,
+                                  Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_params) {
+  ChainScratch scratch;
+  J_point_params->setZero(3, active.size());
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  if (active.size() == 0) {
+    const double* none = nullptr;
+    point = ToolPointInPartT<double>(model, errors, active, none, axes, contact_in_tool_mm, &scratch);
+    return point;
+  }
+  for (int begin = 0; begin < active.size(); begin += kChunk) {
+    const std::vector<Jet> x = Seed(errors, active, begin);
+    const Eigen::Matrix<Jet, 3, 1> p =
+        ToolPointInPartT<Jet>(model, errors, active, x.data(), axes, contact_in_tool_mm, &scratch);
+    for (int r = 0; r < 3; ++r) {
+      point(r) = p(r).a;
+      for (int j = begin; j < std::min(begin + kChunk, active.size()); ++j) {
+        (*J_point_params)(r, j) = p(r).v[j - begin];
+      }
+    }
+  }
+  return point;
+}
+
+void PartFromToolJacobian(const MachineModel& model, const ErrorState& errors,
+                          const ActiveSet& active, const AxisState& axes,
+                          Eigen::Matrix<double, 6, Eigen::Dynamic>* J_pose_params) {
+  ChainScratch scratch;
+  J_pose_params->setZero(6, active.size());
+  for (int begin = 0; begin < active.size(); begin += kChunk) {
+    const std::vector<Jet> x = Seed(errors, active, begin);
+    const PoseT<Jet> pose = PartFromToolT<Jet>(model, errors, active, x.data(), axes, &scratch);
+    Eigen::Matrix3d R;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) R(r, c) = pose.R(r, c).a;
+    }
+    for (int j = begin; j < std::min(begin + kChunk, active.size()); ++j) {
+      Eigen::Matrix3d dR;
+      for (int r = 0; r < 3; ++r) {
+        (*J_pose_params)(r, j) = pose.t(r).v[j - begin];
+        for (int c = 0; c < 3; ++c) dR(r, c) = pose.R(r, c).v[j - begin];
+      }
+      const Eigen::Matrix3d W = dR * R.transpose();  // skew: [w]x
+      (*J_pose_params)(3, j) = 0.5 * (W(2, 1) - W(1, 2));
+      (*J_pose_params)(4, j) = 0.5 * (W(0, 2) - W(2, 0));
+      (*J_pose_params)(5, j) = 0.5 * (W(1, 0) - W(0, 1));
+    }
+  }
+}
+
+}  // namespace tpcal::kinematics

@@ -1,0 +1,190 @@
+#include "kinematics/simulate.h"
+
+#include <ceres/jet.h>
+
+#include <Eigen/LU>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "kinematics/chain_eval.h"
+#include "kinematics/jacobians.h"
+
+namespace tpcal::kinematics {
+
+namespace {
+
+using Jet2 = ceres::Jet<double, 2>;
+
+Eigen::Vector3d ContactAt(const CutPoint& cut, double u, double v) {
+  return cut.contact_in_tool_mm + u * cut.du.contact_in_tool_mm + v * cut.dv.contact_in_tool_mm;
+}
+
+AxisState AxesAt(const CutPoint& cut, double u, double v) {
+  return Advance(Advance(cut.axes, cut.du.axes, u), cut.dv.axes, v);
+}
+
+// S(u, v) (double).
+Eigen::Vector3d SurfaceAt(const MachineModel& model, const ErrorState& errors, const CutPoint& cut,
+                          double u, double v, Workspace* ws) {
+  return ToolPointInPart(model, errors, AxesAt(cut, u, v), ContactAt(cut, u, v), ws);
+}
+
+// S(u, v) and its tangents S_u, S_v. The error terms are evaluated at (u, v) and held fixed
+// while differentiating (their slope along the sweep, um per mm at most, only slows the
+// quasi-Newton iteration; the residual is always exact).
+Eigen::Vector3d SurfaceAndTangents(const MachineModel& model, const ErrorState& errors,
+                                   const CutPoint& cut, double u, double v, Workspace* ws,
+                                   Eigen::Vector3d* S_u, Eigen::Vector3d* S_v) {
+  const AxisState axes = AxesAt(cut, u, v);
+  EvaluateLinkErrors(errors, axes, &ws->link_errors, &ws->scratch);
+  std::array<LinkErrorsT<Jet2>, kMaxLinks> e;
+  for (int l = 0; l < model.num_links(); ++l) {
+    for (int c = 0; c < kNumComponents; ++c) e[l][c] = Jet2(ws->link_errors[l][c]);
+  }
+  const Jet2 du(0.0, 0), dv(0.0, 1);
+  const double q0[kNumAxes] = {axes.x_mm, axes.y_mm, axes.z_mm, axes.a_rad, axes.b_rad, axes.c_rad};
+  std::array<Jet2, kNumAxes> q;
+  for (int i = 0; i < kNumAxes; ++i) {
+    const Axis a = AxisFromIndex(i);
+    q[i] = Jet2(q0[i]) + du * Increment(cut.du.axes, a) + dv * Increment(cut.dv.axes, a);
+  }
+  const Eigen::Vector3d c0 = ContactAt(cut, u, v);
+  Eigen::Matrix<Jet2, 3, 1> c;
+  for (int r = 0; r < 3; ++r) {
+    c(r) = Jet2(c0(r)) + du * cut.du.contact_in_tool_mm(r) + dv * cut.dv.contact_in_tool_mm(r);
+  }
+  const PoseT<Jet2> pose = PartFromToolT<Jet2>(model, e.data(), q.data());
+  const Eigen::Matrix<Jet2, 3, 1> s = pose * c;
+  Eigen::Vector3d out;
+  for (int r = 0; r < 3; ++r) {
+    out(r) = s(r).a;
+    (*S_u)(r) = s(r).v[0];
+    (*S_v)(r) = s(r).v[1];
+  }
+  return out;
+}
+
+Status CheckCut(const CutPoint& cut) {
+  const double n = cut.nominal_normal.norm();
+  if (!(std::abs(n - 1.0) < 1e-9)) {
+    return Status(StatusCode::kInvalidArgument, "cut point: nominal normal is not a unit vector");
+  }
+  if (!cut.nominal_point_mm.allFinite() || !cut.contact_in_tool_mm.allFinite()) {
+    return Status(StatusCode::kInvalidArgument, "cut point: non-finite point or contact");
+  }
+  return Status::Ok();
+}
+
+// [S_u S_v -n0] and whether it is well conditioned (columns normalised).
+bool SweepMatrix(const Eigen::Vector3d& S_u, const Eigen::Vector3d& S_v, const Eigen::Vector3d& n0,
+                 Eigen::Matrix3d* J) {
+  J->col(0) = S_u;
+  J->col(1) = S_v;
+  J->col(2) = -n0;
+  const double nu = S_u.norm(), nv = S_v.norm();
+  if (!(nu > 0.0) || !(nv > 0.0)) return false;
+  const double det = std::abs(J->determinant()) / (nu * nv);
+  return det > 1e-9;
+}
+
+}  // namespace
+
+Status SimulateOptions::Validate() const {
+  if (max_iterations < 1) return Status(StatusCode::kInvalidArgument, "max_iterations must be >= 1");
+  if (!(tolerance_mm > 0.0)) return Status(StatusCode::kInvalidArgument, "tolerance_mm must be > 0");
+  return Status::Ok();
+}
+
+Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const ErrorState& errors,
+                                          const CutPoint& cut, Workspace* ws,
+                                          const SimulateOptions& options) {
+  TPCAL_RETURN_IF_ERROR(CheckCut(cut));
+  const Eigen::Vector3d& p0 = cut.nominal_point_mm;
+  const Eigen::Vector3d& n0 = cut.nominal_normal;
+  double u = 0.0, v = 0.0, s = 0.0;
+  Eigen::Vector3d S_u, S_v;
+  Eigen::Vector3d S = SurfaceAndTangents(model, errors, cut, u, v, ws, &S_u, &S_v);
+  Eigen::Matrix3d J;
+  if (!SweepMatrix(S_u, S_v, n0, &J)) {
+    return Status(StatusCode::kDegenerate,
+                  "cut point: the sweep directions and the normal do not span space");
+  }
+  // Quasi-Newton with the tangents of the first iterate: converges linearly at a rate of the
+  // order of the step over the surface's radius of curvature (1e-4 for 10 um on R = 100 mm).
+  const Eigen::Matrix3d J_inv = J.inverse();
+  SurfacePoint out;
+  for (int it = 1; it <= options.max_iterations; ++it) {
+    const Eigen::Vector3d F = S - p0 - s * n0;
+    const Eigen::Vector3d step = -(J_inv * F);
+    u += step(0);
+    v += step(1);
+    s += step(2);
+    const double step_mm = std::abs(step(0)) * S_u.norm() + std::abs(step(1)) * S_v.norm() +
+                           std::abs(step(2));
+    if (step_mm <= options.tolerance_mm) {
+      out.deviation_mm = s;
+      out.point_mm = p0 + s * n0;
+      out.u = u;
+      out.v = v;
+      out.iterations = it;
+      return out;
+    }
+    S = SurfaceAt(model, errors, cut, u, v, ws);
+  }
+  return Status(StatusCode::kNotConverged,
+                "surface point did not converge in " + std::to_string(options.max_iterations) +
+                    " iterations (errors too large for the sweep, or a sweep tangent to the probing line)");
+}
+
+SurfacePoint SimulateSurfacePointFirstOrder(const MachineModel& model, const ErrorState& errors,
+                                            const CutPoint& cut, Workspace* ws) {
+  const Eigen::Vector3d S = SurfaceAt(model, errors, cut, 0.0, 0.0, ws);
+  SurfacePoint out;
+  out.deviation_mm = cut.nominal_normal.dot(S - cut.nominal_point_mm);
+  out.point_mm = cut.nominal_point_mm + out.deviation_mm * cut.nominal_normal;
+  out.iterations = 0;
+  return out;
+}
+
+double CutPointMismatch(const MachineModel& model, const CutPoint& cut) {
+  return (NominalToolPointInPart(model, cut.axes, cut.contact_in_tool_mm) - cut.nominal_point_mm)
+      .norm();
+}
+
+Status SimulateSurfacePoints(const MachineModel& model, const ErrorState& errors,
+                             const std::vector<CutPoint>& cuts, std::vector<SurfacePoint>* out,
+                             const SimulateOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  out->clear();
+  out->reserve(cuts.size());
+  Workspace ws;
+  for (size_t i = 0; i < cuts.size(); ++i) {
+    Result<SurfacePoint> r = SimulateSurfacePoint(model, errors, cuts[i], &ws, options);
+    if (!r.ok()) return r.status().WithContext("cut point " + std::to_string(i));
+    out->push_back(*r);
+  }
+  return Status::Ok();
+}
+
+Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
+                                                   const ErrorState& errors,
+                                                   const ActiveSet& active, const CutPoint& cut,
+                                                   const SurfacePoint& solved) {
+  TPCAL_RETURN_IF_ERROR(CheckCut(cut));
+  Workspace ws;
+  Eigen::Vector3d S_u, S_v;
+  SurfaceAndTangents(model, errors, cut, solved.u, solved.v, &ws, &S_u, &S_v);
+  Eigen::Matrix3d J;
+  if (!SweepMatrix(S_u, S_v, cut.nominal_normal, &J)) {
+    return Status(StatusCode::kDegenerate,
+                  "cut point: the sweep directions and the normal do not span space");
+  }
+  Eigen::Matrix<double, 3, Eigen::Dynamic> J_point;
+  ToolPointJacobian(model, errors, active, AxesAt(cut, solved.u, solved.v),
+                    ContactAt(cut, solved.u, solved.v), &J_point);
+  const Eigen::RowVector3d r = -J.inverse().row(2);
+  return Eigen::RowVectorXd(r * J_point);
+}
+
+}  // namespace tpcal::kinematics
