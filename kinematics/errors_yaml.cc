@@ -1,6 +1,7 @@
 #include "kinematics/errors_yaml.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <set>
 
 #include "core/units.h"
@@ -29,9 +30,11 @@ std::optional<double> UnitScale(const std::string& unit, Quantity q) {
 const char* Unit(Quantity q) { return q == Quantity::kLength ? "um" : "urad"; }
 double DisplayScale(Quantity q) { return q == Quantity::kLength ? 1e3 : 1e6; }
 
+// Shortest of %.15g / %.17g that reads back to the same double.
 std::string Fmt(double v) {
   char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  std::snprintf(buf, sizeof(buf), "%.15g", v);
+  if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof(buf), "%.17g", v);
   return buf;
 }
 
@@ -477,7 +480,14 @@ std::string FormatErrorState(const ErrorState& errors, const MachineModel& model
         effects += "  - rotary_error_motion: {symbol: " + symbol + at + ", harmonics: [";
         for (std::size_t i = 0; i < t.orders.size(); ++i) {
           effects += std::string(i ? ", " : "") + "{order: " + std::to_string(t.orders[i]) + ", " +
-                     (t.is_sine[i] ? "sin_" : "cos_") + u + ": " + Fmt(t.coefficients[i] * k) + "}";
+                     (t.is_sine[i] ? "sin_" : "cos_") + u + ": " + Fmt(t.coefficients[i] * k);
+          // A cosine followed by the sine of the same order is one harmonic entry.
+          if (!t.is_sine[i] && i + 1 < t.orders.size() && t.is_sine[i + 1] &&
+              t.orders[i + 1] == t.orders[i]) {
+            ++i;
+            effects += ", sin_" + u + ": " + Fmt(t.coefficients[i] * k);
+          }
+          effects += "}";
         }
         effects += "]}\n";
         break;
