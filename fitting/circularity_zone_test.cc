@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/units.h"
+#include "fitting/circle_fit.h"
 #include "fitting/minimum_zone.h"
 
 namespace tpcal::fitting {
@@ -158,6 +159,10 @@ TEST(MinimumZoneCircularity, NotWiderThanZoneAboutOtherCentres) {
     }
     return hi - lo;
   };
+  const auto ls = FitCircle2(p);
+  ASSERT_TRUE(ls.ok()) << ls.status().ToString();
+  EXPECT_LE(mz->width_mm, ls->stats.form_mm + 1e-12);
+  EXPECT_LE(mz->width_mm, zone_about(ls->feature.center_mm) + 1e-12);
   const auto mcc = MinimumCircumscribedCircle(p);
   const auto mic = MaximumInscribedCircle(p);
   ASSERT_TRUE(mcc.ok() && mic.ok());
