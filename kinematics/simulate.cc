@@ -5,7 +5,9 @@
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "kinematics/chain_eval.h"
 #include "kinematics/jacobians.h"
@@ -30,9 +32,10 @@ Eigen::Vector3d SurfaceAt(const MachineModel& model, const ErrorState& errors, c
   return ToolPointInPart(model, errors, AxesAt(cut, u, v), ContactAt(cut, u, v), ws);
 }
 
-// S(u, v) and its tangents S_u, S_v. The error terms are evaluated at (u, v) and held fixed
-// while differentiating (their slope along the sweep, um per mm at most, only slows the
-// quasi-Newton iteration; the residual is always exact).
+// S(u, v) and its tangents S_u, S_v by forward-mode differentiation through the chain. The
+// error terms enter through their values and their slopes along the two sweeps (central
+// differences of the evaluated link errors, step 1e-6 of the sweep parameter; skipped when no
+// term depends on the state).
 Eigen::Vector3d SurfaceAndTangents(const MachineModel& model, const ErrorState& errors,
                                    const CutPoint& cut, double u, double v, Workspace* ws,
                                    Eigen::Vector3d* S_u, Eigen::Vector3d* S_v) {
@@ -41,6 +44,18 @@ Eigen::Vector3d SurfaceAndTangents(const MachineModel& model, const ErrorState& 
   std::array<LinkErrorsT<Jet2>, kMaxLinks> e;
   for (int l = 0; l < model.num_links(); ++l) {
     for (int c = 0; c < kNumComponents; ++c) e[l][c] = Jet2(ws->link_errors[l][c]);
+  }
+  if (!errors.dynamic_terms().empty()) {
+    constexpr double h = 1e-6;
+    std::vector<LinkErrors> plus, minus;
+    for (int k = 0; k < 2; ++k) {
+      const double du = k == 0 ? h : 0.0, dv = k == 1 ? h : 0.0;
+      EvaluateLinkErrors(errors, AxesAt(cut, u + du, v + dv), &plus, &ws->scratch);
+      EvaluateLinkErrors(errors, AxesAt(cut, u - du, v - dv), &minus, &ws->scratch);
+      for (int l = 0; l < model.num_links(); ++l) {
+        for (int c = 0; c < kNumComponents; ++c) e[l][c].v[k] = (plus[l][c] - minus[l][c]) / (2 * h);
+      }
+    }
   }
   const Jet2 du(0.0, 0), dv(0.0, 1);
   const double q0[kNumAxes] = {axes.x_mm, axes.y_mm, axes.z_mm, axes.a_rad, axes.b_rad, axes.c_rad};
@@ -112,8 +127,10 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
   }
   // Quasi-Newton with the tangents of the first iterate: converges linearly at a rate of the
   // order of the step over the surface's radius of curvature (1e-4 for 10 um on R = 100 mm).
-  const Eigen::Matrix3d J_inv = J.inverse();
+  // When a step shrinks by less than 10x, the tangents are refreshed (full Newton step).
+  Eigen::Matrix3d J_inv = J.inverse();
   SurfacePoint out;
+  double last_step_mm = std::numeric_limits<double>::infinity();
   for (int it = 1; it <= options.max_iterations; ++it) {
     const Eigen::Vector3d F = S - p0 - s * n0;
     const Eigen::Vector3d step = -(J_inv * F);
@@ -130,7 +147,17 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
       out.iterations = it;
       return out;
     }
-    S = SurfaceAt(model, errors, cut, u, v, ws);
+    if (step_mm > 0.1 * last_step_mm) {
+      S = SurfaceAndTangents(model, errors, cut, u, v, ws, &S_u, &S_v);
+      if (!SweepMatrix(S_u, S_v, n0, &J)) {
+        return Status(StatusCode::kDegenerate,
+                      "cut point: the sweep became tangent to the probing line during the solve");
+      }
+      J_inv = J.inverse();
+    } else {
+      S = SurfaceAt(model, errors, cut, u, v, ws);
+    }
+    last_step_mm = step_mm;
   }
   return Status(StatusCode::kNotConverged,
                 "surface point did not converge in " + std::to_string(options.max_iterations) +

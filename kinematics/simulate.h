@@ -37,12 +37,13 @@ struct CutPoint {
   Eigen::Vector3d contact_in_tool_mm = Eigen::Vector3d::Zero();  // cutting point, tool frame
   Eigen::Vector3d nominal_point_mm = Eigen::Vector3d::Zero();    // p0, part frame; should equal
                                          // the nominal S(0, 0) (CutPointMismatch)
-  Eigen::Vector3d nominal_normal = Eigen::Vector3d::UnitZ();     // n0, unit, out of the material
+  Eigen::Vector3d nominal_normal = Eigen::Vector3d::UnitZ();     // n0, unit, out of the material,
+                                         // normal to the nominal sweep (S_u, S_v)
   SweepDirection du, dv;                 // must make [S_u S_v n0] non-singular
 };
 
 struct SimulateOptions {
-  int max_iterations = 8;
+  int max_iterations = 20;  // typically 2-4; more for nearly parallel sweeps
   double tolerance_mm = 1e-10;  // on the Newton step (u, v, s mapped to mm)
   Status Validate() const;
 };
@@ -62,7 +63,8 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
                                           const SimulateOptions& options = {});
 
 // First-order fast path: s ~= n0 . (S(0, 0) - p0). Agrees with the exact solve to second order
-// in the errors (tested).
+// in the errors (tested) when n0 is normal to the nominal sweep; for an oblique probing line
+// it is off at first order (use the exact solve).
 SurfacePoint SimulateSurfacePointFirstOrder(const MachineModel& model, const ErrorState& errors,
                                             const CutPoint& cut, Workspace* ws);
 
