@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "pipeline/large_alloc.h"
+
 namespace tpcal::pipeline {
 namespace {
 
@@ -45,6 +47,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
   FileBytes out;
   std::size_t capacity = static_cast<std::size_t>(st.st_size);
   out.data = std::make_unique_for_overwrite<char[]>(capacity + 1);
+  AdviseHugePages(out.data.get(), capacity + 1);
   // Read until EOF (the file may grow or shrink while being read; we take what is there).
   while (true) {
     if (out.size == capacity) {

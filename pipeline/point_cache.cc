@@ -12,6 +12,7 @@
 //   trailer : u64 XXH64 of the payload
 //   (str = u32 length + bytes)
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -20,9 +21,12 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <memory>
+#include <thread>
 
 #include "pipeline/atomic_file.h"
 #include "pipeline/file_bytes.h"
+#include "pipeline/large_alloc.h"
 #include "pipeline/point_io.h"
 #include "pipeline/xxh64.h"
 
@@ -138,35 +142,89 @@ class Writer {
   Xxh64State hash_;
 };
 
+// Reads the payload straight from the file into its destination (no intermediate copy of the
+// whole file), hashing every byte on the way. Small reads go through a 64 KiB buffer.
 class Reader {
  public:
-  explicit Reader(std::string_view bytes) : p_(bytes.data()), end_(bytes.data() + bytes.size()) {}
+  Reader(int fd, std::uint64_t payload_bytes) : fd_(fd), remaining_(payload_bytes) {}
+
   bool Get(void* dst, std::size_t n) {
-    if (static_cast<std::size_t>(end_ - p_) < n) return false;
-    if (n > 0) std::memcpy(dst, p_, n);
-    p_ += n;
+    if (n > remaining_) return false;
+    char* out = static_cast<char*>(dst);
+    const std::size_t from_buf = std::min(n, buf_end_ - buf_pos_);
+    std::memcpy(out, buf_.get() + buf_pos_, from_buf);
+    buf_pos_ += from_buf;
+    std::size_t left = n - from_buf;
+    if (left >= kBufBytes) {
+      if (!ReadFully(out + from_buf, left)) return false;
+    } else if (left > 0) {
+      if (!Refill() || buf_end_ - buf_pos_ < left) return false;
+      std::memcpy(out + from_buf, buf_.get() + buf_pos_, left);
+      buf_pos_ += left;
+    }
+    hash_.Update(out, n);
+    remaining_ -= n;
     return true;
   }
   template <typename T>
   bool GetPod(T* v) { return Get(v, sizeof(T)); }
   bool GetStr(std::string* s) {
     std::uint32_t n;
-    if (!GetPod(&n) || static_cast<std::size_t>(end_ - p_) < n) return false;
-    s->assign(p_, n);
-    p_ += n;
-    return true;
+    if (!GetPod(&n) || n > remaining_) return false;
+    s->resize(n);
+    return Get(s->data(), n);
   }
   template <typename T>
   bool GetArray(std::vector<T>* v, std::uint64_t n) {
-    if (static_cast<std::uint64_t>(end_ - p_) / sizeof(T) < n) return false;
+    if (n > remaining_ / sizeof(T)) return false;
+    ReserveLarge(v, static_cast<std::size_t>(n));
     v->resize(static_cast<std::size_t>(n));
     return Get(v->data(), static_cast<std::size_t>(n) * sizeof(T));
   }
-  bool AtEnd() const { return p_ == end_; }
+  // After the payload: the stored digest must match and the file must end.
+  bool CheckTrailer() {
+    if (remaining_ != 0) return false;
+    std::uint64_t stored = 0;
+    remaining_ = 8;
+    const Xxh64State payload_hash = hash_;
+    if (!Get(&stored, 8)) return false;
+    char extra;
+    if (buf_pos_ != buf_end_ || ::read(fd_, &extra, 1) != 0) return false;
+    return stored == payload_hash.Digest();
+  }
 
  private:
-  const char* p_;
-  const char* end_;
+  static constexpr std::size_t kBufBytes = 64 * 1024;
+
+  bool ReadFully(char* dst, std::size_t n) {
+    while (n > 0) {
+      ssize_t r = ::read(fd_, dst, n);
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0) return false;
+      dst += r;
+      n -= static_cast<std::size_t>(r);
+    }
+    return true;
+  }
+  bool Refill() {
+    const std::size_t keep = buf_end_ - buf_pos_;
+    std::memmove(buf_.get(), buf_.get() + buf_pos_, keep);
+    buf_pos_ = 0;
+    buf_end_ = keep;
+    while (true) {
+      ssize_t r = ::read(fd_, buf_.get() + buf_end_, kBufBytes - buf_end_);
+      if (r < 0 && errno == EINTR) continue;
+      if (r < 0) return false;
+      buf_end_ += static_cast<std::size_t>(r);
+      return true;
+    }
+  }
+
+  int fd_;
+  std::uint64_t remaining_;
+  std::unique_ptr<char[]> buf_ = std::make_unique_for_overwrite<char[]>(kBufBytes);
+  std::size_t buf_pos_ = 0, buf_end_ = 0;
+  Xxh64State hash_;
 };
 
 Status WriteCache(const std::string& cache_path, const SourceKey& key, const PointFile& file) {
@@ -217,26 +275,35 @@ Status WriteCache(const std::string& cache_path, const SourceKey& key, const Poi
 
 enum class LoadResult { kHit, kMissing, kStale, kCorrupt };
 
+struct Fd {
+  int fd = -1;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
 // Loads the cache if it is intact and its key matches the source; fills `file` on a hit.
+// With kFull the source is hashed on a second thread while the arrays load.
 LoadResult LoadCache(const std::string& cache_path, const std::string& source_path,
                      const FileStamp& stamp, std::uint64_t options_digest, CacheVerify verify,
                      PointFile* file) {
-  if (!std::filesystem::exists(cache_path)) return LoadResult::kMissing;
-  Result<FileBytes> bytes = ReadFileBytes(cache_path);
-  if (!bytes.ok()) return LoadResult::kCorrupt;
-  const std::string_view all = bytes->view();
-  if (all.size() < kHeaderBytes + 8 || std::memcmp(all.data(), kMagic, 8) != 0)
+  Fd f;
+  f.fd = ::open(cache_path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (f.fd < 0) return errno == ENOENT ? LoadResult::kMissing : LoadResult::kCorrupt;
+  struct stat st {};
+  if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) return LoadResult::kCorrupt;
+  const std::uint64_t file_bytes = static_cast<std::uint64_t>(st.st_size);
+  if (file_bytes < kHeaderBytes + 8) return LoadResult::kCorrupt;
+  char header[kHeaderBytes];
+  if (::read(f.fd, header, kHeaderBytes) != static_cast<ssize_t>(kHeaderBytes) ||
+      std::memcmp(header, kMagic, 8) != 0)
     return LoadResult::kCorrupt;
   std::uint32_t head[2];
-  std::memcpy(head, all.data() + 8, 8);
+  std::memcpy(head, header + 8, 8);
   if (head[1] != kEndianMark) return LoadResult::kCorrupt;
   if (head[0] != kLayoutVersion) return LoadResult::kStale;
-  const std::string_view payload = all.substr(kHeaderBytes, all.size() - kHeaderBytes - 8);
-  std::uint64_t stored_digest;
-  std::memcpy(&stored_digest, all.data() + all.size() - 8, 8);
-  if (Xxh64(payload) != stored_digest) return LoadResult::kCorrupt;
 
-  Reader in(payload);
+  Reader in(f.fd, file_bytes - kHeaderBytes - 8);
   SourceKey key;
   if (!in.GetStr(&key.abs_path) || !in.GetPod(&key.size) || !in.GetPod(&key.mtime_ns) ||
       !in.GetPod(&key.hash_full) || !in.GetPod(&key.hash_ends) || !in.GetPod(&key.options_digest))
@@ -244,10 +311,19 @@ LoadResult LoadCache(const std::string& cache_path, const std::string& source_pa
   if (key.abs_path != AbsolutePath(source_path) || key.size != stamp.size ||
       key.mtime_ns != stamp.mtime_ns || key.options_digest != options_digest)
     return LoadResult::kStale;
-  Result<std::uint64_t> content = HashFile(source_path, verify, stamp.size);
-  if (!content.ok()) return LoadResult::kStale;
-  if (*content != (verify == CacheVerify::kFull ? key.hash_full : key.hash_ends))
-    return LoadResult::kStale;
+
+  Result<std::uint64_t> content = Status(StatusCode::kInternal, "not hashed");
+  std::thread hasher;
+  if (verify == CacheVerify::kFull && std::thread::hardware_concurrency() > 1)
+    hasher = std::thread([&] { content = HashFile(source_path, verify, stamp.size); });
+  else
+    content = HashFile(source_path, verify, stamp.size);
+  struct Join {
+    std::thread& t;
+    ~Join() {
+      if (t.joinable()) t.join();
+    }
+  } join{hasher};
 
   PointFile out;
   std::uint8_t format, kind, units, has_normals, has_lines;
@@ -269,14 +345,11 @@ LoadResult LoadCache(const std::string& cache_path, const std::string& source_pa
   if (!in.GetArray(&ps.feature, n)) return LoadResult::kCorrupt;
   if (has_lines && !in.GetArray(&ps.line, n)) return LoadResult::kCorrupt;
   std::uint64_t n_names, n_attr;
-  if (!in.GetPod(&n_names) || n_names > payload.size()) return LoadResult::kCorrupt;
+  if (!in.GetPod(&n_names) || n_names > file_bytes) return LoadResult::kCorrupt;
   ps.feature_names.resize(static_cast<std::size_t>(n_names));
   for (auto& name : ps.feature_names)
     if (!in.GetStr(&name)) return LoadResult::kCorrupt;
-  for (int f : ps.feature)
-    if (f != PointSet::kUnlabelled && (f < 0 || static_cast<std::uint64_t>(f) >= n_names))
-      return LoadResult::kCorrupt;
-  if (!in.GetPod(&n_attr) || n_attr > payload.size()) return LoadResult::kCorrupt;
+  if (!in.GetPod(&n_attr) || n_attr > file_bytes) return LoadResult::kCorrupt;
   ps.attributes.resize(static_cast<std::size_t>(n_attr));
   for (PointAttribute& a : ps.attributes) {
     std::uint8_t numeric;
@@ -284,12 +357,19 @@ LoadResult LoadCache(const std::string& cache_path, const std::string& source_pa
     if (numeric) {
       if (!in.GetArray(&a.values, n)) return LoadResult::kCorrupt;
     } else {
+      if (n > file_bytes / 4) return LoadResult::kCorrupt;
       a.text.resize(static_cast<std::size_t>(n));
       for (auto& t : a.text)
         if (!in.GetStr(&t)) return LoadResult::kCorrupt;
     }
   }
-  if (!in.AtEnd()) return LoadResult::kCorrupt;
+  if (!in.CheckTrailer()) return LoadResult::kCorrupt;
+  for (int fi : ps.feature)
+    if (fi != PointSet::kUnlabelled && (fi < 0 || static_cast<std::uint64_t>(fi) >= n_names))
+      return LoadResult::kCorrupt;
+  if (hasher.joinable()) hasher.join();
+  if (!content.ok() || *content != (verify == CacheVerify::kFull ? key.hash_full : key.hash_ends))
+    return LoadResult::kStale;
   ps.source = source_path;
   *file = std::move(out);
   return LoadResult::kHit;

@@ -13,6 +13,13 @@
 namespace tpcal::pipeline {
 namespace {
 
+// Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
+template <typename T>
+bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+
 namespace fs = std::filesystem;
 
 class PointCacheTest : public ::testing::Test {
@@ -59,8 +66,8 @@ class PointCacheTest : public ::testing::Test {
 
 void ExpectSame(const PointSet& a, const PointSet& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(0, std::memcmp(a.xyz_mm.data(), b.xyz_mm.data(), a.size() * sizeof(Eigen::Vector3d)));
-  EXPECT_EQ(0, std::memcmp(a.normal.data(), b.normal.data(), a.normal.size() * sizeof(Eigen::Vector3d)));
+  EXPECT_TRUE(BitsEqual(a.xyz_mm, b.xyz_mm));
+  EXPECT_TRUE(BitsEqual(a.normal, b.normal));
   EXPECT_EQ(a.feature, b.feature);
   EXPECT_EQ(a.feature_names, b.feature_names);
   EXPECT_EQ(a.line, b.line);

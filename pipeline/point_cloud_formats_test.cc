@@ -13,6 +13,13 @@
 namespace tpcal::pipeline {
 namespace {
 
+// Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
+template <typename T>
+bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+
 namespace fs = std::filesystem;
 
 std::string DataPath(const std::string& name) {
@@ -55,7 +62,7 @@ class PointCloudFormatsTest : public ::testing::Test {
 
 void ExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Eigen::Vector3d)));
+  EXPECT_TRUE(BitsEqual(a, b));
 }
 
 TEST_F(PointCloudFormatsTest, PlyAndPcdRoundTripThroughPclWritersAtDoublePrecision) {

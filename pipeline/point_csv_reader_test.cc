@@ -12,6 +12,13 @@
 namespace tpcal::pipeline {
 namespace {
 
+// Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
+template <typename T>
+bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+
 std::string DataPath(const std::string& name) {
   return std::string(TPCAL_SOURCE_DIR) + "/tests/data/points/" + name;
 }
@@ -329,9 +336,8 @@ std::string GenerateBigCsv(std::size_t n_rows, std::uint64_t seed) {
 
 void ExpectBitIdentical(const PointSet& a, const PointSet& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(0, std::memcmp(a.xyz_mm.data(), b.xyz_mm.data(), a.size() * sizeof(Eigen::Vector3d)));
-  ASSERT_EQ(a.normal.size(), b.normal.size());
-  EXPECT_EQ(0, std::memcmp(a.normal.data(), b.normal.data(), a.normal.size() * sizeof(Eigen::Vector3d)));
+  EXPECT_TRUE(BitsEqual(a.xyz_mm, b.xyz_mm));
+  EXPECT_TRUE(BitsEqual(a.normal, b.normal));
   EXPECT_EQ(a.feature, b.feature);
   EXPECT_EQ(a.feature_names, b.feature_names);
   EXPECT_EQ(a.line, b.line);
@@ -339,9 +345,7 @@ void ExpectBitIdentical(const PointSet& a, const PointSet& b) {
   for (std::size_t k = 0; k < a.attributes.size(); ++k) {
     EXPECT_EQ(a.attributes[k].name, b.attributes[k].name);
     EXPECT_EQ(a.attributes[k].text, b.attributes[k].text);
-    ASSERT_EQ(a.attributes[k].values.size(), b.attributes[k].values.size());
-    EXPECT_EQ(0, std::memcmp(a.attributes[k].values.data(), b.attributes[k].values.data(),
-                             a.attributes[k].values.size() * sizeof(double)));
+    EXPECT_TRUE(BitsEqual(a.attributes[k].values, b.attributes[k].values));
   }
 }
 

@@ -11,6 +11,13 @@
 namespace tpcal::pipeline {
 namespace {
 
+// Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
+template <typename T>
+bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+
 namespace fs = std::filesystem;
 
 fs::path TempDir(const std::string& name) {
@@ -54,7 +61,7 @@ PointSet RandomPointSet(std::size_t n, std::uint64_t seed, bool normals) {
 
 void ExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Eigen::Vector3d)));
+  EXPECT_TRUE(BitsEqual(a, b));
 }
 
 TEST(PointCsvWriter, WritesTheContractLayout) {
@@ -95,8 +102,7 @@ TEST(PointCsvWriter, RoundTripIsBitExact) {
   }
   ASSERT_EQ(r.attributes.size(), 2u);
   EXPECT_EQ(r.attributes[0].name, "t_s");
-  EXPECT_EQ(0, std::memcmp(r.attributes[0].values.data(), ps.attributes[0].values.data(),
-                           ps.size() * sizeof(double)));
+  EXPECT_TRUE(BitsEqual(r.attributes[0].values, ps.attributes[0].values));
   EXPECT_EQ(r.attributes[1].text, ps.attributes[1].text);
   EXPECT_EQ(r.line.front(), 4u);  // tag, units, header, first row
   fs::remove_all(dir);
