@@ -81,7 +81,11 @@ double Distance(const Circle2& f, const Eigen::Vector2d& p_mm);
 double Distance(const Circle3& f, const Eigen::Vector3d& p_mm);  // to the circle curve, unsigned
 double Distance(const Sphere& f, const Eigen::Vector3d& p_mm);
 double Distance(const Cylinder& f, const Eigen::Vector3d& p_mm);
-double Distance(const Cone& f, const Eigen::Vector3d& p_mm);
+double Distance(const Cone& f, const Eigen::Vector3d& p_mm);  // to the nappe on the apex's +axis side;
+                                                              // behind the apex: distance to the apex
+// Signed distance of p from a 2D line: positive to the left of `direction` (along the
+// direction rotated by +90 deg). FitLine2's residuals use this sign.
+double SignedDistance(const Line2& f, const Eigen::Vector2d& p_mm);
 
 // True if unit vectors a and b are parallel or antiparallel within tol_rad.
 bool SameDirection(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tol_rad);
