@@ -1,5 +1,6 @@
 #include "gdt/fitted_feature.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>

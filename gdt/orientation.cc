@@ -1,5 +1,6 @@
 #include "gdt/orientation.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <iterator>
 #include <set>
 
 namespace tpcal::gdt {
@@ -283,8 +284,25 @@ const FeatureSpec* InspectionPlan::FindFeature(const std::string& name) const {
   return nullptr;
 }
 
+std::optional<double> InspectionPlan::Nominal(const std::string& name) const {
+  for (const PlanNominal& n : nominals)
+    if (n.name == name) return n.value;
+  return std::nullopt;
+}
+
 Status ValidatePlan(const InspectionPlan& plan) {
   const Checker c(plan);
+  std::set<std::string> nominal_names;
+  for (const PlanNominal& n : plan.nominals) {
+    static const char* const kSuffixes[] = {"_mm", "_um", "_deg", "_rad", "_urad", "_count"};
+    const bool has_unit = std::any_of(std::begin(kSuffixes), std::end(kSuffixes), [&](const char* suf) {
+      const std::string_view sv(suf);
+      return n.name.size() > sv.size() && std::string_view(n.name).substr(n.name.size() - sv.size()) == sv;
+    });
+    if (!has_unit)
+      return c.Error(n.line, "nominal '" + n.name + "': the name must end with its unit (_mm, _um, _deg, _rad, _urad, _count)");
+    if (!nominal_names.insert(n.name).second) return c.Error(n.line, "nominal '" + n.name + "' defined twice");
+  }
   std::set<std::string> names;
   for (const FeatureSpec& f : plan.features) {
     if (f.name.empty()) return c.Error(f.line, "feature with an empty name");

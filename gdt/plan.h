@@ -131,14 +131,25 @@ struct CharacteristicSpec {
   std::size_t line = 0;
 };
 
+// A named nominal the plan carries for later layers (e.g. seed 002's heights z_i of the faces
+// above the A axis, used by the machine-error equations 10-27). The name ends with its unit:
+// _mm, _um, _deg, _rad, _urad, or _count for a pure number.
+struct PlanNominal {
+  std::string name;
+  double value = 0;
+  std::size_t line = 0;
+};
+
 struct InspectionPlan {
   std::string source;  // file name, for messages
   std::string name;
+  std::vector<PlanNominal> nominals;
   std::optional<DatumFrameSpec> datum_frame;  // none: everything is evaluated in the CMM frame
   std::vector<FeatureSpec> features;
   std::vector<CharacteristicSpec> characteristics;
 
   const FeatureSpec* FindFeature(const std::string& name) const;
+  std::optional<double> Nominal(const std::string& name) const;  // nullopt if absent
 };
 
 // Checks names are unique, every reference resolves to a feature of a kind the use accepts,

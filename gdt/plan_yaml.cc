@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -195,6 +196,29 @@ Result<FeatureSpec> ParseFeature(const Reader& rd, const YAML::Node& key, const 
   return f;
 }
 
+// The keys a characteristic of each type accepts: a key of another type is an error too.
+std::set<std::string> KeysFor(CharacteristicType t) {
+  std::set<std::string> keys = {"name", "type", "feature", "symbol", "description"};
+  auto add = [&](std::initializer_list<const char*> more) { keys.insert(more.begin(), more.end()); };
+  switch (t) {
+    case CharacteristicType::kConcentricity: add({"datum", "plane"}); break;
+    case CharacteristicType::kParallelism:
+    case CharacteristicType::kSquareness: add({"datum"}); break;
+    case CharacteristicType::kCircularity:
+    case CharacteristicType::kFlatness:
+    case CharacteristicType::kStraightness: add({"criterion"}); break;
+    case CharacteristicType::kPosition:
+      add({"plane", "nominal_xy_mm", "nominal_xyz_mm", "nominal_radius_mm", "nominal_angle_deg"});
+      break;
+    case CharacteristicType::kPlaneDistance: add({"datum", "nominal_distance_mm"}); break;
+    case CharacteristicType::kSize: add({"nominal_radius_mm", "nominal_diameter_mm"}); break;
+    case CharacteristicType::kHolePattern:
+      add({"plane", "nominal_radius_mm", "first_angle_deg", "pitch_deg", "nominal_angles_deg"});
+      break;
+  }
+  return keys;
+}
+
 Result<CharacteristicSpec> ParseCharacteristic(const Reader& rd, const YAML::Node& n) {
   CharacteristicSpec c;
   c.line = Reader::Line(n);
@@ -202,16 +226,12 @@ Result<CharacteristicSpec> ParseCharacteristic(const Reader& rd, const YAML::Nod
   if (!n["name"]) return rd.Error(n, "characteristic: missing key 'name'");
   TPCAL_ASSIGN_OR_RETURN(c.name, rd.String(n["name"], "characteristic name"));
   const std::string what = "characteristic '" + c.name + "'";
-  TPCAL_RETURN_IF_ERROR(rd.CheckMap(
-      n, what,
-      {"name", "type", "feature", "datum", "symbol", "description", "plane", "criterion", "nominal_radius_mm",
-       "nominal_diameter_mm", "nominal_distance_mm", "nominal_xy_mm", "nominal_xyz_mm", "nominal_angle_deg",
-       "first_angle_deg", "pitch_deg", "nominal_angles_deg"}));
   if (!n["type"]) return rd.Error(n, what + ": missing key 'type'");
   TPCAL_ASSIGN_OR_RETURN(c.type, rd.Enum<CharacteristicType>(n["type"], what + " type", ParseCharacteristicType,
                                                              "concentricity, parallelism, squareness, circularity, "
                                                              "flatness, straightness, position, plane_distance, size, "
                                                              "hole_pattern"));
+  TPCAL_RETURN_IF_ERROR(rd.CheckMap(n, what + " (" + CharacteristicTypeName(c.type) + ")", KeysFor(c.type)));
   if (!n["feature"]) return rd.Error(n, what + ": missing key 'feature'");
   TPCAL_ASSIGN_OR_RETURN(c.feature, rd.String(n["feature"], what + " feature"));
   if (n["datum"]) TPCAL_ASSIGN_OR_RETURN(c.datum, rd.String(n["datum"], what + " datum"));
@@ -255,7 +275,8 @@ Result<InspectionPlan> ParseDocument(const Reader& rd, const YAML::Node& root) {
   plan.source = rd.source();
   if (!root || root.IsNull()) return Status(StatusCode::kParseError, "empty plan", rd.source());
   TPCAL_RETURN_IF_ERROR(
-      rd.CheckMap(root, "plan", {"schema", "name", "description", "datum_frame", "features", "characteristics"}));
+      rd.CheckMap(root, "plan",
+                  {"schema", "name", "description", "nominals", "datum_frame", "features", "characteristics"}));
   if (!root["schema"]) return rd.Error(root, std::string("plan: missing key 'schema' (") + kSchema + ")");
   std::string schema;
   TPCAL_ASSIGN_OR_RETURN(schema, rd.String(root["schema"], "plan schema"));
@@ -263,6 +284,17 @@ Result<InspectionPlan> ParseDocument(const Reader& rd, const YAML::Node& root) {
     return rd.Error(root["schema"], "plan schema: '" + schema + "' is not supported, expected " + kSchema);
   if (root["name"]) TPCAL_ASSIGN_OR_RETURN(plan.name, rd.String(root["name"], "plan name"));
   if (root["description"]) TPCAL_RETURN_IF_ERROR(rd.String(root["description"], "plan description"));
+  if (root["nominals"]) {
+    const YAML::Node nominals = root["nominals"];
+    if (!nominals.IsMap()) return rd.Error(nominals, "nominals: expected a map of name_unit: number");
+    for (const auto& kv : nominals) {
+      PlanNominal n;
+      TPCAL_ASSIGN_OR_RETURN(n.name, rd.String(kv.first, "nominal name"));
+      TPCAL_ASSIGN_OR_RETURN(n.value, rd.Number(kv.second, "nominal '" + n.name + "'"));
+      n.line = Reader::Line(kv.first);
+      plan.nominals.push_back(std::move(n));
+    }
+  }
   if (root["datum_frame"]) {
     DatumFrameSpec d;
     TPCAL_ASSIGN_OR_RETURN(d, ParseFrame(rd, root["datum_frame"]));
