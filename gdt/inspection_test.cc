@@ -462,3 +462,46 @@ TEST(ThreeTwoOnePlan, FrameSquarenessAndPosition) {
 
 }  // namespace
 }  // namespace tpcal::gdt
+
+namespace tpcal::gdt {
+namespace {
+
+// Form characteristics whose minimum-zone values are known in closed form.
+TEST(FormCharacteristics, LeastSquaresAndMinimumZoneValues) {
+  if (!MinimumZoneAvailable()) GTEST_SKIP() << "fitting/minimum_zone.h not in this build";
+  InspectionPlan plan;
+  plan.source = "form plan";
+  plan.features = {{.name = "P", .kind = FeatureKind::kPlane, .form_criterion = FormCriterion::kMinimumZone},
+                   {.name = "L", .kind = FeatureKind::kLine2, .projection = Projection::kDatumXY}};
+  plan.characteristics = {
+      {.name = "flat", .type = CharacteristicType::kFlatness, .feature = "P"},
+      {.name = "straight", .type = CharacteristicType::kStraightness, .feature = "L",
+       .criterion = FormCriterion::kMinimumZone},
+  };
+  PointSet ps;
+  ps.source = "form points";
+  // Plane ring with dz = A cos(2 theta): 4 points at +A, 4 at -A placed symmetrically: no tilt
+  // narrows the zone, LS and MZ are both 2 A.
+  const double a = 0.0015;
+  AppendPlaneRing(&ps, "P", {.radius_mm = 50.0, .dz_mm = [a](double t) { return a * std::cos(2 * t); }});
+  // Line points (0,0) (1,h) (2,0) (3,h): MZ strip width h (horizontal lines), LS line slope h/5
+  // leaves residuals -0.2h, 0.6h, -0.6h, 0.2h: LS range 1.2 h.
+  const double h = 0.001;
+  for (int i = 0; i < 4; ++i) {
+    ps.xyz_mm.emplace_back(10.0 * i, i % 2 == 1 ? h : 0.0, 7.0);
+    ps.normal.push_back(Eigen::Vector3d::UnitY());
+    ps.feature.push_back(ps.InternFeature("L"));
+    ps.line.push_back(ps.line.back() + 1);
+  }
+  // Line spacing 10 mm: slope h/50; the scaled values are h (MZ) and 1.2 h cos(atan(h/50)).
+  auto r = EvaluatePlan(plan, ps);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_NEAR(Get(*r, "flat", "flatness_um"), MmToUm(2 * a), kTol_um);  // the feature's criterion: mz
+  EXPECT_NEAR(Get(*r, "flat", "ls_um"), MmToUm(2 * a), kTol_um);
+  EXPECT_NEAR(MmToUm(*r->Feature("P")->form_mm()), MmToUm(2 * a), kTol_um);
+  EXPECT_NEAR(Get(*r, "straight", "straightness_um"), MmToUm(h), kTol_um);
+  EXPECT_NEAR(Get(*r, "straight", "ls_um"), MmToUm(1.2 * h * std::cos(std::atan(h / 50))), kTol_um);
+}
+
+}  // namespace
+}  // namespace tpcal::gdt

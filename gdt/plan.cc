@@ -94,6 +94,16 @@ Status ValidateFeature(const InspectionPlan& plan, const Checker& c, const Featu
     return c.Error(f.line, "feature '" + f.name + "': nominal_direction must be a non-zero vector");
   if (f.kind == FeatureKind::kCone && f.nominal_direction)
     return c.Error(f.line, "feature '" + f.name + "': a cone's axis points to its wider end; nominal_direction is not used");
+  const bool directed = f.kind == FeatureKind::kPlane || f.kind == FeatureKind::kLine2 ||
+                        f.kind == FeatureKind::kLine3 || f.kind == FeatureKind::kCylinder ||
+                        (f.kind == FeatureKind::kCircle && f.projection == Projection::kNone);
+  if (f.nominal_direction && !directed && f.kind != FeatureKind::kCone)
+    return c.Error(f.line, "feature '" + f.name + "': nominal_direction applies to planes, lines, cylinders and "
+                               "unprojected circles");
+  const bool has_form = f.kind != FeatureKind::kPoint && f.kind != FeatureKind::kSphere && f.kind != FeatureKind::kCone;
+  if (f.form_criterion == FormCriterion::kMinimumZone && !has_form)
+    return c.Error(f.line, "feature '" + f.name + "': form_criterion mz is not available for a " +
+                               FeatureKindName(f.kind));
   if (f.kind != FeatureKind::kPitchCircle && !f.members.empty())
     return c.Error(f.line, "feature '" + f.name + "': members apply to pitch_circle only");
   if (f.kind == FeatureKind::kPitchCircle) {
