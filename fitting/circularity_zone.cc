@@ -65,6 +65,17 @@ class CircleProblem final : public internal::ChebyshevProblem {
     return ZoneAt(c_ + Eigen::Vector2d(delta[0], delta[1]));
   }
   void Apply(const Eigen::VectorXd& delta) override { c_ += Eigen::Vector2d(delta[0], delta[1]); }
+  Eigen::MatrixXd Curvature(const std::vector<ZoneContact>& active,
+                            const std::vector<double>& multipliers) const override {
+    Eigen::MatrixXd w = Eigen::MatrixXd::Zero(2, 2);  // outer rows: Hess |p - c| = (I - u u^T) / r
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      if (active[a].side != ZoneSide::kUpper) continue;
+      const Eigen::Vector2d q = pts_[active[a].index] - c_;
+      const double r = q.norm();
+      if (r > 0) w += multipliers[a] * (Eigen::Matrix2d::Identity() - q * q.transpose() / (r * r)) / r;
+    }
+    return w;
+  }
 
   // max |p - c| - min |p - c| in double.
   double ZoneAt(const Eigen::Vector2d& c) const {

@@ -11,6 +11,8 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <cstdio>
+#include <cstdlib>
 
 namespace tpcal::fitting::internal {
 namespace {
@@ -51,7 +53,7 @@ void NormalizeContacts(std::vector<ZoneContact>* contacts) {
 }
 
 LpResult SolveChebyshevLp(const LinearModel& model, ChebyshevKind kind, const LpBox& box,
-                          WorkingSet* working_set) {
+                          WorkingSet* working_set, const Eigen::MatrixXd* curvature) {
   LpResult out;
   const int n = static_cast<int>(model.value.size());
   const int k = static_cast<int>(model.jacobian.cols());
@@ -68,6 +70,8 @@ LpResult SolveChebyshevLp(const LinearModel& model, ChebyshevKind kind, const Lp
 
   WorkingSet local;
   WorkingSet& ws = working_set ? *working_set : local;
+  if (ws.upper.size() + ws.lower.size() > static_cast<std::size_t>(40 * (k + 2))) ws = WorkingSet{};
+  const bool quadratic = curvature != nullptr && curvature->cwiseAbs().maxCoeff() > 0;
   const int per_round = k + 2;
   AddExtremeRows(v, std::max(0, 2 * k + 4 - static_cast<int>(ws.upper.size())), true, &ws.upper);
   if (zone) {
@@ -100,8 +104,14 @@ LpResult SolveChebyshevLp(const LinearModel& model, ChebyshevKind kind, const Lp
     }
     lp.set_c(iu, 1.0);
     if (zone) lp.set_c(il, -1.0);
+    if (quadratic) {  // CGAL's D holds 2D: objective x^T D x = delta^T W delta / 2 needs 2D = W
+      for (int i = 0; i < k; ++i) {
+        for (int j = 0; j <= i; ++j) lp.set_d(i, j, (*curvature)(i, j));
+      }
+    }
 
-    Solution s = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
+    Solution s = quadratic ? CGAL::solve_quadratic_program(lp, CGAL::Gmpzf())
+                           : CGAL::solve_linear_program(lp, CGAL::Gmpzf());
     if (!s.is_optimal()) {
       out.message = s.is_infeasible() ? "linearised LP infeasible" : "linearised LP unbounded";
       return out;
@@ -125,8 +135,10 @@ LpResult SolveChebyshevLp(const LinearModel& model, ChebyshevKind kind, const Lp
       if (zone && V - lin[i] > tol) viol_lo.emplace_back(V - lin[i], i);
     }
     if (viol_up.empty() && viol_lo.empty()) {
-      const double obj = CGAL::to_double(s.objective_value());
+      const double quad = quadratic ? 0.5 * out.delta.dot(*curvature * out.delta) : 0.0;
+      const double obj = quadratic ? (zone ? U - V : U) : CGAL::to_double(s.objective_value());
       out.objective = zone ? obj : obj + shift;
+      out.model_value = out.objective + quad;
       // Rounding of the quotient, of the shifted values (u |v_i|), of the shift itself.
       const double margin = 4 * kUnitRoundoff * (std::abs(obj) + value_scale) +
                             (zone ? 0.0 : 2 * kUnitRoundoff * std::abs(shift));
@@ -167,16 +179,17 @@ SlpResult RunSlp(ChebyshevProblem& problem, int max_iterations, double initial_s
   const double tol = 64 * kUnitRoundoff * scale;  // rounding level of the residuals
   double step = initial_step_mm;
   WorkingSet ws;
+  Eigen::MatrixXd curvature = Eigen::MatrixXd::Zero(k, k);
   double f = problem.Objective(Eigen::VectorXd::Zero(k));
   for (int it = 0; it < max_iterations; ++it) {
     out.iterations = it + 1;
     const LinearModel model = problem.Linearize();
-    LpResult lp = SolveChebyshevLp(model, problem.kind(), LpBox::Cube(k, step), &ws);
+    LpResult lp = SolveChebyshevLp(model, problem.kind(), LpBox::Cube(k, step), &ws, &curvature);
     if (!lp.ok) {
       out.message = lp.message;
       return out;
     }
-    const double predicted = f - lp.objective;
+    const double predicted = f - lp.model_value;
     if (predicted <= tol) {
       out.converged = true;
       out.objective = f;
@@ -186,9 +199,14 @@ SlpResult RunSlp(ChebyshevProblem& problem, int max_iterations, double initial_s
     }
     const double f_new = problem.Objective(lp.delta);
     const double ratio = (f - f_new) / predicted;
+    if (std::getenv("TPCAL_SLP_DEBUG")) {
+      std::fprintf(stderr, "slp it %d f %.17g pred %.3g ratio %.6f step %.3g len %.3g box %d nact %zu\n", it, f, predicted,
+                   ratio, step, lp.delta.cwiseAbs().maxCoeff(), int(lp.box_active), lp.active.size());
+    }
     const double step_len = lp.delta.cwiseAbs().maxCoeff();
     if (ratio > 1e-4) {
       problem.Apply(lp.delta);
+      curvature = problem.Curvature(lp.active, lp.multipliers);
       f = problem.Objective(Eigen::VectorXd::Zero(k));
       if (ratio > 0.5 && lp.box_active) step *= 2;
       else if (!lp.box_active) step = std::max(4 * step_len, 1e-12 * scale);

@@ -34,9 +34,11 @@ struct LpResult {
   bool ok = false;
   std::string message;
   Eigen::VectorXd delta;       // minimiser (rounded to double)
-  double objective = 0;        // exact LP optimum (U - V, or U), rounded to nearest
-  double objective_lower = 0;  // a rigorous lower bound of the LP optimum over ALL n rows
-                               // (subset LP is a relaxation; rounding margin subtracted)
+  double objective = 0;        // U - V (or U) at the optimum: the exact LP optimum when no
+                               // curvature was given, rounded to nearest
+  double model_value = 0;      // objective + delta^T W delta / 2 (W: curvature; = objective for an LP)
+  double objective_lower = 0;  // without curvature: a rigorous lower bound of the LP optimum over
+                               // ALL n rows (subset LP is a relaxation; rounding margin subtracted)
   std::vector<ZoneContact> active;      // rows with non-zero multiplier (index, side)
   std::vector<double> multipliers;      // |lambda| per active row (sum 1 per side at optimum)
   bool box_active = false;              // delta touches the box
@@ -50,8 +52,10 @@ struct WorkingSet {
 // Solves min (U - V) [kZone] or min U [kUpper] subject to value_i + J_i delta <= U (all i),
 // value_i + J_i delta >= V (kZone), delta in box. Exact LP (Gmpzf) on a working set of rows,
 // grown until no row is violated at the solution (by more than ~1e-14 of the residual scale).
+// With `curvature` W (k x k, positive semidefinite) the objective gains delta^T W delta / 2 and the
+// problem is solved as an exact QP (the sequential-QP step; W from the active rows' Hessians).
 LpResult SolveChebyshevLp(const LinearModel& model, ChebyshevKind kind, const LpBox& box,
-                          WorkingSet* working_set);
+                          WorkingSet* working_set, const Eigen::MatrixXd* curvature = nullptr);
 
 // A feature parametrised by a local displacement delta (k parameters, mm) about its current state.
 class ChebyshevProblem {
@@ -62,6 +66,14 @@ class ChebyshevProblem {
   virtual LinearModel Linearize() const = 0;               // at delta = 0
   virtual double Objective(const Eigen::VectorXd& delta) const = 0;  // exact (nonlinear) zone
   virtual void Apply(const Eigen::VectorXd& delta) = 0;    // move the state by delta
+  // Positive semidefinite curvature sum_i lambda_i Hess r_i over the active upper rows (the convex
+  // part of the Lagrangian Hessian), for a sequential-QP step. Default: none.
+  virtual Eigen::MatrixXd Curvature(const std::vector<ZoneContact>& active,
+                                    const std::vector<double>& multipliers) const {
+    (void)active;
+    (void)multipliers;
+    return Eigen::MatrixXd::Zero(num_params(), num_params());
+  }
   virtual double Scale() const = 0;                        // size of the feature, mm (for tolerances)
 };
 
@@ -73,8 +85,9 @@ struct SlpResult {
   std::string message;
 };
 
-// Sequential LP with a trust box (initial half-width `initial_step_mm`) until the exact LP predicts
-// no decrease beyond rounding.
+// Sequential LP/QP with a trust box (initial half-width `initial_step_mm`) until the exact model
+// predicts no decrease beyond rounding. The QP curvature (Curvature()) makes the iteration converge
+// fast where the optimum is not a vertex of the linear model (e.g. few contacts on a thin cylinder).
 SlpResult RunSlp(ChebyshevProblem& problem, int max_iterations, double initial_step_mm);
 
 // Local certificate at the current state of `problem`, given a rigorous bound
