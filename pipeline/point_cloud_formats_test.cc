@@ -184,6 +184,30 @@ TEST_F(PointCloudFormatsTest, XyzText) {
             "mem.xyz: no points: the file has only comments and blank lines; expected lines of x y z [i j k]");
 }
 
+TEST_F(PointCloudFormatsTest, XyzParallelEqualsSerial) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coord(-100.0, 100.0);
+  std::string text = "# scan\n";
+  for (int i = 0; i < 30000; ++i) {
+    text += std::to_string(coord(rng)) + (i % 3 ? " " : "\t") + std::to_string(coord(rng)) + ", " +
+            std::to_string(coord(rng)) + (i % 5 ? "\n" : "  \r\n");
+    if (i % 1000 == 0) text += "# comment\n\n";
+  }
+  PointReadOptions serial;
+  serial.threads = 1;
+  PointReadOptions parallel;
+  parallel.threads = 4;
+  parallel.min_chunk_bytes = 1000;
+  Result<PointFile> a = ParsePointXyz(text, "scan.xyz", serial);
+  Result<PointFile> b = ParsePointXyz(text, "scan.xyz", parallel);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(b->info.chunks, 4);
+  ASSERT_EQ(a->points.size(), 30000u);
+  EXPECT_TRUE(BitsEqual(a->points.xyz_mm, b->points.xyz_mm));
+  EXPECT_EQ(a->points.line, b->points.line);
+  EXPECT_EQ(a->points.line.back(), 30000u + 1u + 2u * 30u);
+}
+
 TEST_F(PointCloudFormatsTest, FormatChoice) {
   EXPECT_EQ(PointFormatFromExtension("a/b.CSV"), PointFormat::kCsv);
   EXPECT_EQ(PointFormatFromExtension("b.txt"), PointFormat::kXyz);

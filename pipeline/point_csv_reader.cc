@@ -253,10 +253,13 @@ Result<Layout> ParseHeader(std::string_view line, const std::string& source, std
   }
   static constexpr const char* kRequired[4] = {"feature", "x", "y", "z"};
   for (int r = 0; r < 4; ++r) {
-    if (!found[r])
+    if (!found[r]) {
+      const bool semicolons = cells.size() == 1 && line.find(';') != std::string_view::npos;
       return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "
-                               "in any order, optionally i,j,k; got '{}')",
-                               kRequired[r], TrimBlanks(line)));
+                               "in any order, optionally i,j,k; got '{}'){}",
+                               kRequired[r], TrimBlanks(line),
+                               semicolons ? "; the separator must be ',' not ';'" : ""));
+    }
   }
   const int n_normal = found[4] + found[5] + found[6];
   if (n_normal != 0 && n_normal != 3) {

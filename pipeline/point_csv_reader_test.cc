@@ -287,6 +287,16 @@ TEST(PointCsvReader, ToleratedOddities) {
   EXPECT_EQ(ParseOk("feature,x,y,z\nA,1,2,3").size(), 1u);
 }
 
+TEST(PointCsvReader, SpreadsheetQuotingEverywhere) {
+  PointSet ps = ParseOk("\"feature\",\"x\",\"y\",\"z\"\n\"H1, wall\",\"1.5\", \"2\" ,\"3\"\n");
+  ASSERT_EQ(ps.size(), 1u);
+  EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"H1, wall"}));
+  EXPECT_EQ(ps.xyz_mm[0], Eigen::Vector3d(1.5, 2, 3));
+  EXPECT_EQ(ParseError("feature;x;y;z\nA;1;2;3\n").message(),
+            "header lacks the required column 'feature' (expected feature,x,y,z in any order, optionally "
+            "i,j,k; got 'feature;x;y;z'); the separator must be ',' not ';'");
+}
+
 TEST(PointCsvReader, NormalTolerance) {
   // Within 1e-3 of unit: normalised. Beyond: error. Tolerance is an option.
   PointSet ps = ParseOk("feature,x,y,z,i,j,k\nA,0,0,0,0,0,1.0009\n");
