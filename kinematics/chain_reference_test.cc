@@ -9,6 +9,8 @@
 #include <random>
 
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/error_parameters.h"
+#include "kinematics/error_state.h"
 #include "kinematics/machine_model.h"
 
 namespace tpcal::kinematics {
@@ -143,6 +145,43 @@ TEST(ChainReference, NominalTableMatchesIso841Formula) {
     const Eigen::Vector3d tool(s.x_mm, s.y_mm, s.z_mm);
     const Eigen::Vector4d expect = D6(s.c_rad) * D4(s.a_rad) * tool.homogeneous();
     EXPECT_LT((NominalToolPointInPart(*m, s, Eigen::Vector3d::Zero()) - expect.head<3>()).norm(), 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace tpcal::kinematics
+
+namespace tpcal::kinematics {
+namespace {
+
+TEST(ChainReference, WorkspaceMemoFollowsModelAndErrorChanges) {
+  // The double chain memoises link transforms in the Workspace; reusing one Workspace across
+  // machines, pivots, errors and positions must give the same results as a fresh Workspace.
+  std::mt19937_64 rng(99);
+  Workspace shared;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const MachineType t = static_cast<MachineType>(trial % 4);
+    Result<MachineModel> m = MakeMachine(t);
+    ASSERT_TRUE(m.ok());
+    if (trial % 3 == 0) m->links[0].pivot_mm.x() += 10.0 * u(rng);
+    ErrorState e(*m);
+    if (trial % 2 == 0) {
+      const std::vector<ParameterInfo> cat = ParameterCatalog(*m);
+      for (int k = 0; k < 4 && !cat.empty(); ++k) {
+        const ParameterInfo& p = cat[static_cast<size_t>(std::abs(u(rng)) * cat.size()) % cat.size()];
+        ASSERT_TRUE(e.SetParameter(*m, p.name, 1e-3 * u(rng)).ok());
+      }
+    }
+    AxisState s;
+    s.x_mm = 100 * u(rng);
+    s.c_rad = trial % 5 == 0 ? 0.0 : u(rng);
+    s.b_rad = trial % 7 == 0 ? 0.0 : u(rng);
+    s.a_rad = u(rng);
+    Workspace fresh;
+    const Rigid3 a = PartFromTool(*m, e, s, &shared);
+    const Rigid3 b = PartFromTool(*m, e, s, &fresh);
+    EXPECT_EQ((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), 0.0) << trial;
   }
 }
 

@@ -57,12 +57,12 @@ int LinearWeights(const std::vector<double>& x, double q, int idx[2], double w[2
   return 2;
 }
 
-// Table weights of the own-axis interpolation: adds w * `scale` into weights[offset + node].
-void TableWeights1D(const ErrorTerm& t, double q, double scale, int offset,
-                    std::vector<double>* weights) {
+// Table weights of the own-axis interpolation: calls add(node, weight) for each node with a
+// non-zero weight (at most four).
+template <typename Add>
+void TableWeights1D(const ErrorTerm& t, double q, Add&& add) {
   const std::vector<double>& x = t.nodes;
   const int n = static_cast<int>(x.size());
-  auto add = [&](int node, double w) { (*weights)[offset + node] += scale * w; };
   // Locate the interval [x_i, x_{i+1}] (periodic: the last interval wraps to x_0 + 2 pi).
   int i = 0;
   double x0 = 0.0, x1 = 0.0;
@@ -97,7 +97,6 @@ void TableWeights1D(const ErrorTerm& t, double q, double scale, int offset,
   const double h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
   add(i, h00);
   add(ip1, h01);
-  // Slope at node j as weights on nodes: returns via lambda adding coefficient c * m_j.
   auto add_slope = [&](int j, double c) {
     int jm, jp;
     double xm, xp;
@@ -118,6 +117,39 @@ void TableWeights1D(const ErrorTerm& t, double q, double scale, int offset,
   };
   add_slope(i, h10 * h);
   add_slope(ip1, h11 * h);
+}
+
+// Calls add(coefficient index, weight) for the table's weights at `axes` (condition not checked).
+template <typename Add>
+void TableWeights(const ErrorTerm& t, const AxisState& axes, Add&& add) {
+  const double q = Position(axes, t.argument);
+  if (!t.second_argument) {
+    TableWeights1D(t, q, add);
+    return;
+  }
+  int idx[2];
+  double w[2];
+  const int m = LinearWeights(t.second_nodes, Position(axes, *t.second_argument), idx, w);
+  const int nn = static_cast<int>(t.nodes.size());
+  for (int j = 0; j < m; ++j) {
+    const double wj = w[j];
+    const int offset = idx[j] * nn;
+    TableWeights1D(t, q, [&](int node, double wi) { add(offset + node, wj * wi); });
+  }
+}
+
+// cos(k q), sin(k q) for k = 0..kmax by the angle-addition recurrence (kmax < 64).
+void Harmonics(double q, int kmax, double* c, double* s) {
+  c[0] = 1.0;
+  s[0] = 0.0;
+  if (kmax < 1) return;
+  const double c1 = std::cos(q), s1 = std::sin(q);
+  c[1] = c1;
+  s[1] = s1;
+  for (int k = 2; k <= kmax; ++k) {
+    c[k] = c[k - 1] * c1 - s[k - 1] * s1;
+    s[k] = s[k - 1] * c1 + c[k - 1] * s1;
+  }
 }
 
 }  // namespace
@@ -248,19 +280,9 @@ void EvaluateTermBasis(const ErrorTerm& t, const AxisState& axes, std::vector<do
       }
       return;
     }
-    case TermKind::kTable: {
-      const double q = Position(axes, t.argument);
-      if (!t.second_argument) {
-        TableWeights1D(t, q, 1.0, 0, weights);
-        return;
-      }
-      int idx[2];
-      double w[2];
-      const int m = LinearWeights(t.second_nodes, Position(axes, *t.second_argument), idx, w);
-      const int nn = static_cast<int>(t.nodes.size());
-      for (int j = 0; j < m; ++j) TableWeights1D(t, q, w[j], idx[j] * nn, weights);
+    case TermKind::kTable:
+      TableWeights(t, axes, [&](int k, double w) { (*weights)[k] += w; });
       return;
-    }
     case TermKind::kExponentialDrift: {
       const double dt = axes.t_s - t.t0_s;
       (*weights)[0] = dt > 0.0 ? -std::expm1(-dt / t.tau_s) : 0.0;
@@ -447,15 +469,62 @@ void ErrorState::Rebuild() {
   }
 }
 
+double TermValue(const ErrorTerm& t, const AxisState& axes) {
+  if (!t.condition.Holds(axes)) return 0.0;
+  const std::vector<double>& c = t.coefficients;
+  switch (t.kind) {
+    case TermKind::kConstant: return c[0];
+    case TermKind::kOperationOffset: return axes.op == t.op ? c[0] : 0.0;
+    case TermKind::kPolynomial: {
+      const double q = Position(axes, t.argument);
+      double v = 0.0;
+      for (size_t k = 0; k < c.size(); ++k) {
+        double b = 1.0;
+        for (int p = 0; p < t.powers[k]; ++p) b *= q;
+        v += c[k] * b;
+      }
+      return v;
+    }
+    case TermKind::kFourier: {
+      const double q = Position(axes, t.argument);
+      int kmax = 0;
+      for (int k : t.orders) kmax = std::max(kmax, k);
+      double v = 0.0;
+      if (kmax < 64) {
+        double co[64], si[64];
+        Harmonics(q, kmax, co, si);
+        for (size_t k = 0; k < c.size(); ++k) v += c[k] * (t.is_sine[k] ? si[t.orders[k]] : co[t.orders[k]]);
+      } else {
+        for (size_t k = 0; k < c.size(); ++k) {
+          const double a = t.orders[k] * q;
+          v += c[k] * (t.is_sine[k] ? std::sin(a) : std::cos(a));
+        }
+      }
+      return v;
+    }
+    case TermKind::kTable: {
+      double v = 0.0;
+      TableWeights(t, axes, [&](int k, double w) { v += c[k] * w; });
+      return v;
+    }
+    case TermKind::kExponentialDrift: {
+      const double dt = axes.t_s - t.t0_s;
+      return dt > 0.0 ? -c[0] * std::expm1(-dt / t.tau_s) : 0.0;
+    }
+    case TermKind::kLinearDrift: {
+      const double dt = axes.t_s - t.t0_s;
+      return dt > 0.0 ? c[0] * dt : 0.0;
+    }
+  }
+  return 0.0;
+}
+
 void EvaluateLinkErrors(const ErrorState& errors, const AxisState& axes,
-                        std::vector<LinkErrors>* link_errors, std::vector<double>* scratch) {
+                        std::vector<LinkErrors>* link_errors) {
   *link_errors = errors.static_errors();
   for (int ti : errors.dynamic_terms()) {
     const ErrorTerm& t = errors.terms()[ti];
-    if (!t.condition.Holds(axes)) continue;
-    EvaluateTermBasis(t, axes, scratch);
-    double value = 0.0;
-    for (size_t k = 0; k < t.coefficients.size(); ++k) value += t.coefficients[k] * (*scratch)[k];
+    const double value = TermValue(t, axes);
     if (value == 0.0) continue;
     for (const SlotEffect& e : t.effects) {
       (*link_errors)[errors.LinkIndex(e.axis)][ComponentIndex(e.component)] += e.gain * value;

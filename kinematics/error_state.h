@@ -140,9 +140,11 @@ ActiveSet AllCoefficients(const ErrorState& errors);
 // (0 when it does not hold). `weights` is resized to the term's coefficient count.
 void EvaluateTermBasis(const ErrorTerm& term, const AxisState& axes, std::vector<double>* weights);
 
+// Value of a term at `axes` (sum of coefficient * basis; 0 when its condition does not hold).
+double TermValue(const ErrorTerm& term, const AxisState& axes);
+
 // Error components of every link at `axes`: static_errors() plus the dynamic terms (mm, rad).
-// `scratch` avoids allocation when reused.
 void EvaluateLinkErrors(const ErrorState& errors, const AxisState& axes,
-                        std::vector<LinkErrors>* link_errors, std::vector<double>* scratch);
+                        std::vector<LinkErrors>* link_errors);
 
 }  // namespace tpcal::kinematics

@@ -14,9 +14,27 @@
 namespace tpcal::kinematics {
 
 // Per-call scratch. Reuse across calls to avoid allocation; not shared between threads.
+// Memo of one link's last evaluation (an implementation detail of Workspace): the rotations
+// derived from its error components are reused while those are bitwise unchanged, and the whole
+// transform while the axis position is unchanged too.
+struct LinkMemo {
+  AxisLink link;            // the link the memo was computed for (a Workspace may be reused)
+  bool valid_e = false;
+  LinkErrors e{};
+  bool has_r = false;
+  Eigen::Matrix3d re = Eigen::Matrix3d::Identity();  // R(e_r)
+  Eigen::Vector3d k = Eigen::Vector3d::UnitZ();      // R(l_r) a
+  bool valid_q = false;
+  double q = 0.0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();   // parent_from_child
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis_direction = Eigen::Vector3d::UnitZ();  // actual motion axis, parent frame
+  Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();
+};
+
 struct Workspace {
   std::vector<LinkErrors> link_errors;  // evaluated error components per link
-  std::vector<double> scratch;          // term basis values
+  std::vector<LinkMemo> memo;           // per link; sized on first use
 };
 
 // part_from_tool under `errors` (exact; mm). The model and errors must belong together

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kinematics/chain_eval.h"
+#include "kinematics/internal/memo_chain.h"
 #include "kinematics/jacobians.h"
 
 namespace tpcal::kinematics {
@@ -32,26 +33,27 @@ Eigen::Vector3d SurfaceAt(const MachineModel& model, const ErrorState& errors, c
   return ToolPointInPart(model, errors, AxesAt(cut, u, v), ContactAt(cut, u, v), ws);
 }
 
-// S(u, v) and its tangents S_u, S_v by forward-mode differentiation through the chain. The
-// error terms enter through their values and their slopes along the two sweeps (central
-// differences of the evaluated link errors, step 1e-6 of the sweep parameter; skipped when no
-// term depends on the state).
+// S(u, v) and its tangents S_u, S_v by forward-mode differentiation through the chain. With
+// `error_slopes`, the error terms enter through their values and their slopes along the two
+// sweeps (central differences of the evaluated link errors, step 1e-6 of the sweep parameter);
+// without, through their values only: the slopes (um per mm at most) then only slow the
+// quasi-Newton iteration a little, the residual being always exact.
 Eigen::Vector3d SurfaceAndTangents(const MachineModel& model, const ErrorState& errors,
-                                   const CutPoint& cut, double u, double v, Workspace* ws,
-                                   Eigen::Vector3d* S_u, Eigen::Vector3d* S_v) {
+                                   const CutPoint& cut, double u, double v, bool error_slopes,
+                                   Workspace* ws, Eigen::Vector3d* S_u, Eigen::Vector3d* S_v) {
   const AxisState axes = AxesAt(cut, u, v);
-  EvaluateLinkErrors(errors, axes, &ws->link_errors, &ws->scratch);
+  EvaluateLinkErrors(errors, axes, &ws->link_errors);
   std::array<LinkErrorsT<Jet2>, kMaxLinks> e;
   for (int l = 0; l < model.num_links(); ++l) {
     for (int c = 0; c < kNumComponents; ++c) e[l][c] = Jet2(ws->link_errors[l][c]);
   }
-  if (!errors.dynamic_terms().empty()) {
+  if (error_slopes && !errors.dynamic_terms().empty()) {
     constexpr double h = 1e-6;
     std::vector<LinkErrors> plus, minus;
     for (int k = 0; k < 2; ++k) {
       const double du = k == 0 ? h : 0.0, dv = k == 1 ? h : 0.0;
-      EvaluateLinkErrors(errors, AxesAt(cut, u + du, v + dv), &plus, &ws->scratch);
-      EvaluateLinkErrors(errors, AxesAt(cut, u - du, v - dv), &minus, &ws->scratch);
+      EvaluateLinkErrors(errors, AxesAt(cut, u + du, v + dv), &plus);
+      EvaluateLinkErrors(errors, AxesAt(cut, u - du, v - dv), &minus);
       for (int l = 0; l < model.num_links(); ++l) {
         for (int c = 0; c < kNumComponents; ++c) e[l][c].v[k] = (plus[l][c] - minus[l][c]) / (2 * h);
       }
@@ -78,6 +80,89 @@ Eigen::Vector3d SurfaceAndTangents(const MachineModel& model, const ErrorState& 
     (*S_v)(r) = s(r).v[1];
   }
   return out;
+}
+
+// Axes a term's value depends on (bit AxisIndex); time and operation do not change along a sweep.
+unsigned TermAxisMask(const ErrorTerm& t) {
+  unsigned m = 0;
+  if (t.condition.axis) m |= 1u << AxisIndex(*t.condition.axis);
+  if (t.kind == TermKind::kPolynomial || t.kind == TermKind::kFourier || t.kind == TermKind::kTable) {
+    m |= 1u << AxisIndex(t.argument);
+    if (t.second_argument) m |= 1u << AxisIndex(*t.second_argument);
+  }
+  return m;
+}
+
+// The error terms of one solve, split into those that the sweeps cannot change (evaluated once at
+// the cut state, exactly) and those that depend on a swept axis (re-evaluated at each iterate).
+struct SweepErrors {
+  std::vector<LinkErrors> base;
+  std::vector<int> varying;
+
+  void Prepare(const ErrorState& errors, const CutPoint& cut) {
+    unsigned swept = 0;
+    for (int i = 0; i < kNumAxes; ++i) {
+      const Axis a = AxisFromIndex(i);
+      if (Increment(cut.du.axes, a) != 0.0 || Increment(cut.dv.axes, a) != 0.0) swept |= 1u << i;
+    }
+    base = errors.static_errors();
+    varying.clear();
+    for (int ti : errors.dynamic_terms()) {
+      const ErrorTerm& t = errors.terms()[ti];
+      if (TermAxisMask(t) & swept) {
+        varying.push_back(ti);
+        continue;
+      }
+      Add(errors, t, TermValue(t, cut.axes), &base);
+    }
+  }
+  static void Add(const ErrorState& errors, const ErrorTerm& t, double value, std::vector<LinkErrors>* e) {
+    if (value == 0.0) return;
+    for (const SlotEffect& s : t.effects) {
+      (*e)[errors.LinkIndex(s.axis)][ComponentIndex(s.component)] += s.gain * value;
+    }
+  }
+  void Evaluate(const ErrorState& errors, const AxisState& axes, std::vector<LinkErrors>* e) const {
+    *e = base;
+    for (int ti : varying) {
+      const ErrorTerm& t = errors.terms()[ti];
+      Add(errors, t, TermValue(t, axes), e);
+    }
+  }
+};
+
+// S(u, v) in double; with S_u / S_v non-null also the sweep tangents, from the actual motion
+// axes of the links (screw velocities: w x (m - o) for a rotary axis, its direction for a
+// linear one; minus for the workpiece branch). The error terms' own slopes along the sweep are
+// not included (they only slow the quasi-Newton iteration; the residual is exact).
+Eigen::Vector3d SurfaceFast(const MachineModel& model, const ErrorState& errors,
+                            const SweepErrors& sweep, const CutPoint& cut, double u, double v,
+                            Workspace* ws, Eigen::Vector3d* S_u, Eigen::Vector3d* S_v) {
+  const AxisState axes = AxesAt(cut, u, v);
+  sweep.Evaluate(errors, axes, &ws->link_errors);
+  const Eigen::Vector3d contact = ContactAt(cut, u, v);
+  PoseT<double> w, t;
+  if (!S_u) {
+    internal::MemoBranchPoses(model, ws->link_errors, axes, ws, &w, &t, nullptr);
+    return w.R.transpose() * (t * contact - w.t);
+  }
+  std::array<LinkAxisT<double>, kMaxLinks> ax;
+  internal::MemoBranchPoses(model, ws->link_errors, axes, ws, &w, &t, ax.data());
+  const Eigen::Vector3d m = t * contact;
+  Eigen::Vector3d vu = t.R * cut.du.contact_in_tool_mm, vv = t.R * cut.dv.contact_in_tool_mm;
+  for (int i = 0; i < model.num_links(); ++i) {
+    const Axis a = model.links[i].axis;
+    const double iu = Increment(cut.du.axes, a), iv = Increment(cut.dv.axes, a);
+    if (iu == 0.0 && iv == 0.0) continue;
+    const Eigen::Vector3d vel =
+        IsRotary(a) ? Eigen::Vector3d(ax[i].direction.cross(m - ax[i].point)) : ax[i].direction;
+    const double sign = i < model.num_workpiece_links ? -1.0 : 1.0;
+    vu += sign * iu * vel;
+    vv += sign * iv * vel;
+  }
+  *S_u = w.R.transpose() * vu;
+  *S_v = w.R.transpose() * vv;
+  return w.R.transpose() * (m - w.t);
 }
 
 Status CheckCut(const CutPoint& cut) {
@@ -118,28 +203,32 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
   const Eigen::Vector3d& p0 = cut.nominal_point_mm;
   const Eigen::Vector3d& n0 = cut.nominal_normal;
   double u = 0.0, v = 0.0, s = 0.0;
+  SweepErrors sweep;
+  sweep.Prepare(errors, cut);
   Eigen::Vector3d S_u, S_v;
-  Eigen::Vector3d S = SurfaceAndTangents(model, errors, cut, u, v, ws, &S_u, &S_v);
+  Eigen::Vector3d S = SurfaceFast(model, errors, sweep, cut, u, v, ws, &S_u, &S_v);
   Eigen::Matrix3d J;
   if (!SweepMatrix(S_u, S_v, n0, &J)) {
     return Status(StatusCode::kDegenerate,
                   "cut point: the sweep directions and the normal do not span space");
   }
-  // Quasi-Newton with the tangents of the first iterate: converges linearly at a rate of the
-  // order of the step over the surface's radius of curvature (1e-4 for 10 um on R = 100 mm).
-  // When a step shrinks by less than 10x, the tangents are refreshed (full Newton step).
-  Eigen::Matrix3d J_inv = J.inverse();
+  // Newton iteration with the tangents of each iterate (the error terms' own slopes along the
+  // sweep are left out of the tangents: the rate is then ~1e-5 per step instead of quadratic,
+  // the residual being exact). Converged when the last step, or the next one predicted from
+  // the observed contraction (step_k^2 / step_{k-1}), is below the tolerance.
   SurfacePoint out;
   double last_step_mm = std::numeric_limits<double>::infinity();
   for (int it = 1; it <= options.max_iterations; ++it) {
     const Eigen::Vector3d F = S - p0 - s * n0;
-    const Eigen::Vector3d step = -(J_inv * F);
+    const Eigen::Vector3d step = -(J.inverse() * F);
     u += step(0);
     v += step(1);
     s += step(2);
     const double step_mm = std::abs(step(0)) * S_u.norm() + std::abs(step(1)) * S_v.norm() +
                            std::abs(step(2));
-    if (step_mm <= options.tolerance_mm) {
+    const bool contracting = std::isfinite(last_step_mm) && step_mm < 1e-2 * last_step_mm;
+    if (step_mm <= options.tolerance_mm ||
+        (contracting && step_mm * (step_mm / last_step_mm) <= options.tolerance_mm)) {
       out.deviation_mm = s;
       out.point_mm = p0 + s * n0;
       out.u = u;
@@ -147,17 +236,12 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
       out.iterations = it;
       return out;
     }
-    if (step_mm > 0.1 * last_step_mm) {
-      S = SurfaceAndTangents(model, errors, cut, u, v, ws, &S_u, &S_v);
-      if (!SweepMatrix(S_u, S_v, n0, &J)) {
-        return Status(StatusCode::kDegenerate,
-                      "cut point: the sweep became tangent to the probing line during the solve");
-      }
-      J_inv = J.inverse();
-    } else {
-      S = SurfaceAt(model, errors, cut, u, v, ws);
-    }
     last_step_mm = step_mm;
+    S = SurfaceFast(model, errors, sweep, cut, u, v, ws, &S_u, &S_v);
+    if (!SweepMatrix(S_u, S_v, n0, &J)) {
+      return Status(StatusCode::kDegenerate,
+                    "cut point: the sweep became tangent to the probing line during the solve");
+    }
   }
   return Status(StatusCode::kNotConverged,
                 "surface point did not converge in " + std::to_string(options.max_iterations) +
@@ -201,7 +285,7 @@ Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
   TPCAL_RETURN_IF_ERROR(CheckCut(cut));
   Workspace ws;
   Eigen::Vector3d S_u, S_v;
-  SurfaceAndTangents(model, errors, cut, solved.u, solved.v, &ws, &S_u, &S_v);
+  SurfaceAndTangents(model, errors, cut, solved.u, solved.v, true, &ws, &S_u, &S_v);
   Eigen::Matrix3d J;
   if (!SweepMatrix(S_u, S_v, cut.nominal_normal, &J)) {
     return Status(StatusCode::kDegenerate,
