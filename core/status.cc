@@ -26,7 +26,9 @@ Status Status::WithLocation(std::string file, std::size_t line) const {
 
 Status Status::WithContext(const std::string& context) const {
   Status s = *this;
-  s.message_ = context + ": " + message_;
+  std::string m;
+  m.append(context).append(": ").append(message_);
+  s.message_ = std::move(m);
   return s;
 }
 
@@ -34,11 +36,12 @@ std::string Status::ToString() const {
   if (ok()) return "ok";
   std::string out;
   if (!file_.empty()) {
-    out = file_;
-    if (line_ != 0) out += ":" + std::to_string(line_);
-    out += ": ";
+    out.append(file_);
+    if (line_ != 0) out.append(":").append(std::to_string(line_));
+    out.append(": ");
   }
-  return out + message_;
+  out.append(message_);
+  return out;
 }
 
 }  // namespace tpcal
