@@ -143,7 +143,7 @@ void AddSeed002(std::vector<ParameterInfo>* out) {
     out->push_back(std::move(p));
   };
   const Quantity L = Quantity::kLength, R = Quantity::kAngle;
-  make("dx_CR(0)", "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1)", L,
+  make("dx_CR(0)", "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1, printed E_X0A)", L,
        {{Axis::kC, Component::kLineTx, 1.0}}, a0,
        "X position of the C axis average line at A = 0 (line only: the table is not displaced at "
        "C = 0); +value moves the line +X");
@@ -174,10 +174,12 @@ void AddSeed002(std::vector<ParameterInfo>* out) {
        {{Axis::kC, Component::kLineRx, 1.0}}, a90,
        "orientation of the C axis line about machine X at A = -90 (parallelism to Y): +value "
        "turns the line direction from -Y toward -Z");
-  make("gamma_CR(-90)", "gamma_CR(-90 deg) = E_C0A + E_B(0A)C (seed 002 eq. 9)", R,
-       {{Axis::kC, Component::kLineRy, 1.0}}, a90,
-       "orientation of the C axis line about machine Z at A = -90 (the table's Y): +value turns "
-       "the line direction from -Y toward +X");
+  make("gamma_CR(-90)",
+       "gamma_CR(-90 deg) = E_B0A + E_B(0A)C for constant errors (seed 002 eq. 9 prints E_C0A + "
+       "E_B(0A)C, the machine-frame tilt; see kinematics/SEED002_SIGNS.md)",
+       R, {{Axis::kC, Component::kLineRy, 1.0}}, a90,
+       "orientation of the C axis line about machine Z at A = -90 relative to the table (its Y "
+       "axis): +value turns the line direction from -Y toward +X");
 }
 
 }  // namespace
