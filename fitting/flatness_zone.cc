@@ -178,6 +178,19 @@ Eigen::Vector3d OrientNormal(Eigen::Vector3d n, const std::optional<Eigen::Vecto
 
 }  // namespace
 
+Result<double> internal::FlatnessWidth3AllPoints(std::span<const Eigen::Vector3d> points_mm) {
+  if (points_mm.size() < 4) return Status(StatusCode::kTooFewPoints, "Width_3 reference needs at least 4 points");
+  Result<IntegerCoordinates> ic = IntegerCoordinates::Make(points_mm);
+  TPCAL_RETURN_IF_ERROR(ic);
+  std::vector<HK::Point_3> hp;
+  hp.reserve(points_mm.size());
+  for (const auto& p : points_mm) hp.push_back(ic->Point(p));
+  CGAL::Width_3<WidthTraits> width(hp.begin(), hp.end());
+  Z num, den;
+  width.get_squared_width(num, den);
+  return std::sqrt(CGAL::to_double(CGAL::Gmpq(num, den)));
+}
+
 Result<FlatnessZone> MinimumZoneFlatness(std::span<const Eigen::Vector3d> points_mm, const ZoneOptions& options,
                                          std::optional<Eigen::Vector3d> normal_hint) {
   TPCAL_RETURN_IF_ERROR(options.Validate());

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "fitting/minimum_zone.h"
+#include "fitting/minimum_zone_exact.h"
 #include "fitting/plane_fit.h"
 
 namespace tpcal::fitting {
@@ -87,6 +88,22 @@ TEST(MinimumZoneFlatness, MatchesBruteForceOnRandomSets) {
     }
     // The zone contains all points.
     for (const auto& x : p) EXPECT_LE(std::abs(mz->plane.SignedDistance(x)), 0.5 * mz->width_mm + 1e-12);
+  }
+}
+
+TEST(MinimumZoneFlatness, EqualsWidth3OnAllPoints) {
+  // The exact reference: CGAL Width_3 on every point. Both are exact: the doubles must agree to
+  // the rounding of the final square root.
+  for (std::uint64_t seed = 40; seed < 44; ++seed) {
+    std::mt19937_64 rng(seed);
+    auto p = NoisyPlane(rng, 600, 0.002);
+    if (seed % 2) {  // a wavy face: the extreme subset needs several rounds
+      for (auto& x : p) x.z() += 0.001 * std::sin(x.x() / 7.0);
+    }
+    const auto mz = MinimumZoneFlatness(p);
+    const auto ref = internal::FlatnessWidth3AllPoints(p);
+    ASSERT_TRUE(mz.ok() && ref.ok());
+    EXPECT_NEAR(mz->width_mm, *ref, 4e-16 * *ref) << "seed " << seed << " " << mz->certificate.message;
   }
 }
 

@@ -1,4 +1,4 @@
-// Internal to fitting/: exact 2D geometry behind the minimum-zone evaluations (implemented in
+// Internal to fitting/: exact geometry behind the minimum-zone evaluations (2D in
 // minimum_zone_exact2.cc, the only fitting/ translation unit with CGAL 2D kernels). Input
 // coordinates are taken as exact binary numbers; decisions below are exact unless said otherwise.
 #pragma once
@@ -66,5 +66,10 @@ ExactCircle MinCircumscribedCircle2(std::span<const Eigen::Vector2d> points_mm);
 // Largest empty circle with centre in the convex hull (Delaunay with exact predicates; candidates
 // are Voronoi vertices and Voronoi-edge crossings of hull edges; ties resolved in rationals).
 ExactCircle MaxInscribedCircle2(std::span<const Eigen::Vector2d> points_mm);
+
+// Reference: CGAL Width_3 on ALL points (exact, slow: its own exact hull and antipodal search).
+// Returns the exact minimum width, rounded; kTooFewPoints / kDegenerate as MinimumZoneFlatness.
+// Used by tests and by tests/bench/zone_bench.cc as the baseline; implemented in flatness_zone.cc.
+Result<double> FlatnessWidth3AllPoints(std::span<const Eigen::Vector3d> points_mm);
 
 }  // namespace tpcal::fitting::internal
