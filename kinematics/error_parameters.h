@@ -58,10 +58,14 @@ std::vector<ParameterInfo> ParameterCatalog(const MachineModel& model);
 Result<ParameterInfo> LookupParameter(const MachineModel& model, std::string_view name);
 
 // Standard sets (names in the catalog):
-// ISO 230-1 location errors that a machining or probing test can in principle see: for each
-// rotary axis the two line positions, the two line orientations and (for the last rotary axis of
-// a two-axis table: none, for a carried axis: its zero, except where redundant), plus the three
-// squareness errors E_C(0X)Y, E_B(0X)Z, E_A(0Y)Z. bc_table: the 11 errors of seed 001.
+// ISO 230-1 location errors usually identified for the machine type, plus the three squareness
+// errors E_C(0X)Y, E_B(0X)Z, E_A(0Y)Z:
+//   ac_table: E_Y0A E_Z0A E_B0A E_C0A E_A0A, E_X0C E_Y0C E_B0C E_C0C (E_A0C is left out: with the
+//             C pivot on the A axis it is the same as E_A0A);
+//   bc_table: E_X0B E_Z0B E_A0B E_C0B, E_X0C E_Y0C E_A0C E_B0C (with the squareness: the 11
+//             position-independent errors of seed 001);
+//   bhead_ctable: E_X0B E_Z0B E_A0B E_C0B E_B0B, E_X0C E_Y0C E_A0C E_B0C;  xyz: squareness only.
+// Whether a given test piece can separate them is for identification to report.
 std::vector<std::string> IsoLocationSet(const MachineModel& model);
 // Seed 002 Table 2 (ac_table only; empty otherwise): dx_CR(0), dy_CR(0), alpha_CR(0),
 // beta_CR(0), dy_AR(-90), dz_AR(-90), dy_CA(-90), alpha_CR(-90), gamma_CR(-90), beta_ZX, alpha_ZY.

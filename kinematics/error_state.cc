@@ -428,8 +428,9 @@ double ErrorState::coefficient(int i) const {
 
 void ErrorState::set_coefficient(int i, double value_internal) {
   const CoefficientInfo& c = coefficient_info_[i];
-  terms_[c.term].coefficients[c.index] = value_internal;
-  Rebuild();
+  ErrorTerm& t = terms_[c.term];
+  t.coefficients[c.index] = value_internal;
+  if (t.kind == TermKind::kConstant && t.condition.always()) RebuildStatic();
 }
 
 std::optional<int> ErrorState::FindCoefficient(std::string_view name) const {
@@ -452,6 +453,10 @@ void ErrorState::Rebuild() {
   for (int i = 0; i < static_cast<int>(terms_.size()); ++i) {
     for (CoefficientInfo& c : CoefficientInfos(terms_[i], i)) coefficient_info_.push_back(std::move(c));
   }
+  RebuildStatic();
+}
+
+void ErrorState::RebuildStatic() {
   LinkErrors zero;
   zero.fill(0.0);
   static_errors_.assign(num_links_, zero);

@@ -103,7 +103,7 @@ class ErrorState {
   int num_coefficients() const { return static_cast<int>(coefficient_info_.size()); }
   const CoefficientInfo& coefficient_info(int i) const { return coefficient_info_[i]; }
   double coefficient(int i) const;
-  void set_coefficient(int i, double value_internal);
+  void set_coefficient(int i, double value_internal);  // O(terms), no allocation of names
   std::optional<int> FindCoefficient(std::string_view name) const;
 
   // Sum of the always-on kConstant terms per link: errors()[link][component] (mm, rad).
@@ -115,7 +115,8 @@ class ErrorState {
   bool empty() const { return terms_.empty(); }
 
  private:
-  void Rebuild();
+  void Rebuild();        // coefficient index, then RebuildStatic()
+  void RebuildStatic();  // static_errors_ and dynamic_terms_
 
   MachineType type_;
   int num_links_ = 0;
