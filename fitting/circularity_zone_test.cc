@@ -70,6 +70,7 @@ std::vector<Eigen::Vector2d> NoisyCircle(std::mt19937_64& rng, int n, const Eige
 constexpr double kRelTol = 1e-9;
 
 TEST(MinimumZoneCircularity, MatchesBruteForceOnRandomCircles) {
+  double worst = 0;
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     std::mt19937_64 rng(seed);
     const int n = 6 + static_cast<int>(seed % 9);
@@ -78,11 +79,13 @@ TEST(MinimumZoneCircularity, MatchesBruteForceOnRandomCircles) {
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceCircularity(p);
     EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf) << "seed " << seed;
+    worst = std::max(worst, std::abs(mz->width_mm - bf) / bf);
     EXPECT_TRUE(mz->certificate.verified_optimal) << mz->certificate.message;
     EXPECT_EQ(mz->certificate.scope, OptimalityScope::kGlobal) << mz->certificate.message;
     EXPECT_TRUE(mz->certificate.exact);
     EXPECT_GE(mz->certificate.contacts.size(), 4u);
   }
+  RecordProperty("worst_relative_deviation_from_brute_force", ::testing::PrintToString(worst));
 }
 
 TEST(MinimumZoneCircularity, GlobalCertificateIsNeverWrongOnScatteredPoints) {
@@ -133,7 +136,7 @@ TEST(MinimumZoneCircularity, InvariantUnderRigidMotionOrderAndFarOrigin) {
   const auto base = MinimumZoneCircularity(p);
   ASSERT_TRUE(base.ok());
   const Eigen::Rotation2Dd rot(0.7);
-  for (const Eigen::Vector2d shift : {Eigen::Vector2d(1000, -1000), Eigen::Vector2d(-3.5, 12.0)}) {
+  for (const Eigen::Vector2d& shift : {Eigen::Vector2d(1000, -1000), Eigen::Vector2d(-3.5, 12.0)}) {
     std::vector<Eigen::Vector2d> q;
     for (const auto& x : p) q.push_back(rot * x + shift);
     std::shuffle(q.begin(), q.end(), rng);
@@ -171,6 +174,23 @@ TEST(MinimumZoneCircularity, NotWiderThanZoneAboutOtherCentres) {
   std::uniform_real_distribution<double> d(-0.01, 0.01);
   for (int i = 0; i < 200; ++i) {
     EXPECT_LE(mz->width_mm, zone_about(mz->center_mm + Eigen::Vector2d(d(rng), d(rng))) + 1e-12);
+  }
+}
+
+TEST(MinimumZoneCircularity, ShortArcIsHonest) {
+  // A 20 degree arc: the zone is still found and certified at least locally; when the certificate
+  // claims global scope it must match brute force.
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    std::mt19937_64 rng(seed);
+    const auto p = NoisyCircle(rng, 12, {0, 0}, 30, 0.01, DegToRad(20));
+    const auto mz = MinimumZoneCircularity(p);
+    ASSERT_TRUE(mz.ok()) << mz.status().ToString();
+    EXPECT_NE(mz->certificate.scope, OptimalityScope::kNotVerified) << mz->certificate.message;
+    const double bf = BruteForceCircularity(p);
+    EXPECT_GE(mz->width_mm, bf * (1 - kRelTol));
+    if (mz->certificate.scope == OptimalityScope::kGlobal) {
+      EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf);
+    }
   }
 }
 

@@ -11,8 +11,6 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
-#include <cstdio>
-#include <cstdlib>
 
 namespace tpcal::fitting::internal {
 namespace {
@@ -199,10 +197,6 @@ SlpResult RunSlp(ChebyshevProblem& problem, int max_iterations, double initial_s
     }
     const double f_new = problem.Objective(lp.delta);
     const double ratio = (f - f_new) / predicted;
-    if (std::getenv("TPCAL_SLP_DEBUG")) {
-      std::fprintf(stderr, "slp it %d f %.17g pred %.3g ratio %.6f step %.3g len %.3g box %d nact %zu\n", it, f, predicted,
-                   ratio, step, lp.delta.cwiseAbs().maxCoeff(), int(lp.box_active), lp.active.size());
-    }
     const double step_len = lp.delta.cwiseAbs().maxCoeff();
     if (ratio > 1e-4) {
       problem.Apply(lp.delta);

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "core/units.h"
+#include "fitting/line_fit.h"
 #include "fitting/minimum_zone.h"
 
 namespace tpcal::fitting {
@@ -48,6 +49,7 @@ std::pair<Eigen::Matrix<double, D, 1>, Eigen::Matrix<double, D, 1>> LeastSquares
 }
 
 TEST(MinimumZoneStraightness2, MatchesBruteForce) {
+  double worst = 0;
   for (std::uint64_t seed = 1; seed <= 30; ++seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> x(0, 100), e(-0.01, 0.01);
@@ -61,6 +63,7 @@ TEST(MinimumZoneStraightness2, MatchesBruteForce) {
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceStrip(p);
     EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf + 1e-15) << "seed " << seed;
+    worst = std::max(worst, std::abs(mz->width_mm - bf) / bf);
     EXPECT_TRUE(mz->certificate.verified_optimal);
     ASSERT_GE(mz->certificate.contacts.size(), 3u);
     const Eigen::Vector2d left(-mz->line.direction.y(), mz->line.direction.x());
@@ -77,7 +80,11 @@ TEST(MinimumZoneStraightness2, MatchesBruteForce) {
       lo = std::min(lo, s);
     }
     EXPECT_LE(mz->width_mm, hi - lo + 1e-15);
+    const auto ls = FitLine2(p);  // the library's least-squares line
+    ASSERT_TRUE(ls.ok()) << ls.status().ToString();
+    EXPECT_LE(mz->width_mm, ls->stats.form_mm + 1e-15);
   }
+  RecordProperty("worst_relative_deviation_from_brute_force", ::testing::PrintToString(worst));
 }
 
 TEST(MinimumZoneStraightness2, KnownStripAndInvariance) {
@@ -157,6 +164,11 @@ TEST(MinimumZoneStraightness3, NoDirectionDoesBetterAndCertificateHolds) {
     double ls_max = 0;
     for (const auto& x : p) ls_max = std::max(ls_max, (x - c).cross(d).norm());
     EXPECT_LE(mz->diameter_mm, 2 * ls_max + 1e-12);
+    const auto ls = FitLine3(p);  // the library's least-squares line
+    ASSERT_TRUE(ls.ok()) << ls.status().ToString();
+    double fit_max = 0;
+    for (const auto& x : p) fit_max = std::max(fit_max, Distance(ls->feature, x));
+    EXPECT_LE(mz->diameter_mm, 2 * fit_max + 1e-12);
   }
 }
 
