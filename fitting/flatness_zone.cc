@@ -193,6 +193,13 @@ Result<double> internal::FlatnessWidth3AllPoints(std::span<const Eigen::Vector3d
 
 Result<FlatnessZone> MinimumZoneFlatness(std::span<const Eigen::Vector3d> points_mm, const ZoneOptions& options,
                                          std::optional<Eigen::Vector3d> normal_hint) {
+  return internal::MinimumZoneFlatnessWithSubsetLimit(points_mm, options, normal_hint, 400);
+}
+
+Result<FlatnessZone> internal::MinimumZoneFlatnessWithSubsetLimit(std::span<const Eigen::Vector3d> points_mm,
+                                                                  const ZoneOptions& options,
+                                                                  std::optional<Eigen::Vector3d> normal_hint,
+                                                                  std::size_t max_subset) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
   const std::size_t n = points_mm.size();
   if (n < 3) {
@@ -266,11 +273,24 @@ Result<FlatnessZone> MinimumZoneFlatness(std::span<const Eigen::Vector3d> points
     for (std::size_t i = 0; i < m; ++i) add_unique(order[i]);
   }
 
-  constexpr std::size_t kMaxSubset = 400;
+  const std::size_t kMaxSubset = max_subset;
   constexpr int kPerRound = 8;
   WidthOnSubset w;
   int rounds = 0;
   bool used_hull = false;
+  // Fallback: the exact convex hull (its width is the width of the set).
+  auto use_hull = [&] {
+    std::vector<K::Point_3> P;
+    P.reserve(n);
+    for (const auto& p : points_mm) P.emplace_back(p.x(), p.y(), p.z());
+    std::vector<std::size_t> idx(n);
+    std::iota(idx.begin(), idx.end(), std::size_t{0});
+    subset.clear();
+    CGAL::extreme_points_3(idx, std::back_inserter(subset),
+                           CGAL::make_extreme_points_traits_adapter(CGAL::make_property_map(P)));
+    used_hull = true;
+  };
+  if (subset.size() > kMaxSubset) use_hull();
   std::vector<std::size_t> lower_contacts, upper_contacts;
   for (;;) {
     ++rounds;
@@ -293,16 +313,7 @@ Result<FlatnessZone> MinimumZoneFlatness(std::span<const Eigen::Vector3d> points
       return Status(StatusCode::kInternal, "minimum-zone flatness: Width_3 slab of the hull misses a point");
     }
     if (subset.size() > kMaxSubset) {
-      // Fall back to the exact convex hull: its width is the width of the set.
-      std::vector<K::Point_3> P;
-      P.reserve(n);
-      for (const auto& p : points_mm) P.emplace_back(p.x(), p.y(), p.z());
-      std::vector<std::size_t> idx(n);
-      std::iota(idx.begin(), idx.end(), std::size_t{0});
-      subset.clear();
-      CGAL::extreme_points_3(idx, std::back_inserter(subset),
-                             CGAL::make_extreme_points_traits_adapter(CGAL::make_property_map(P)));
-      used_hull = true;
+      use_hull();
       continue;
     }
     for (auto* v : {&below, &above}) {

@@ -100,13 +100,18 @@ TEST(MinimumZoneFlatness, EqualsWidth3OnAllPoints) {
   for (std::uint64_t seed = 40; seed < 44; ++seed) {
     std::mt19937_64 rng(seed);
     auto p = NoisyPlane(rng, 600, 0.002);
-    if (seed % 2) {  // a wavy face: the extreme subset needs several rounds
+    if (seed % 2) {  // a wavy face
       for (auto& x : p) x.z() += 0.001 * std::sin(x.x() / 7.0);
     }
     const auto mz = MinimumZoneFlatness(p);
     const auto ref = internal::FlatnessWidth3AllPoints(p);
     ASSERT_TRUE(mz.ok() && ref.ok());
     EXPECT_NEAR(mz->width_mm, *ref, 4e-16 * *ref) << "seed " << seed << " " << mz->certificate.message;
+    // The exact-hull fallback (forced) gives the same exact answer.
+    const auto hull = internal::MinimumZoneFlatnessWithSubsetLimit(p, {}, std::nullopt, 0);
+    ASSERT_TRUE(hull.ok());
+    EXPECT_NEAR(hull->width_mm, *ref, 4e-16 * *ref) << "seed " << seed;
+    EXPECT_NE(hull->certificate.method.find("convex hull"), std::string::npos) << hull->certificate.message;
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -71,5 +72,12 @@ ExactCircle MaxInscribedCircle2(std::span<const Eigen::Vector2d> points_mm);
 // Returns the exact minimum width, rounded; kTooFewPoints / kDegenerate as MinimumZoneFlatness.
 // Used by tests and by tests/bench/zone_bench.cc as the baseline; implemented in flatness_zone.cc.
 Result<double> FlatnessWidth3AllPoints(std::span<const Eigen::Vector3d> points_mm);
+
+// MinimumZoneFlatness with the subset size beyond which the exact convex hull replaces the
+// extreme subset (public default 400; tests pass 0 to exercise the hull path).
+Result<FlatnessZone> MinimumZoneFlatnessWithSubsetLimit(std::span<const Eigen::Vector3d> points_mm,
+                                                        const ZoneOptions& options,
+                                                        std::optional<Eigen::Vector3d> normal_hint,
+                                                        std::size_t max_subset);
 
 }  // namespace tpcal::fitting::internal
