@@ -554,6 +554,15 @@ Result<ActiveSet> SelectCoefficients(const ErrorState& errors, const std::vector
   return out;
 }
 
+Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* errors,
+                                     const std::vector<std::string>& names) {
+  for (const std::string& n : names) {
+    if (errors->FindCoefficient(n)) continue;
+    if (LookupParameter(model, n).ok()) TPCAL_RETURN_IF_ERROR(errors->SetParameter(model, n, 0.0));
+  }
+  return SelectCoefficients(*errors, names);
+}
+
 ActiveSet AllCoefficients(const ErrorState& errors) {
   ActiveSet out;
   for (int i = 0; i < errors.num_coefficients(); ++i) out.coefficients.push_back(i);

@@ -136,6 +136,11 @@ struct ActiveSet {
 Result<ActiveSet> SelectCoefficients(const ErrorState& errors, const std::vector<std::string>& names);
 // All coefficients.
 ActiveSet AllCoefficients(const ErrorState& errors);
+// Like SelectCoefficients, but first adds a zero-valued constant term for each name that is a
+// catalog parameter (LookupParameter) not yet present in `errors`: e.g. freeing Seed002Set() or
+// IsoLocationSet() of a machine starting from zero errors.
+Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* errors,
+                                     const std::vector<std::string>& names);
 
 // Basis value of each coefficient of term `term` at `axes`, including the condition
 // (0 when it does not hold). `weights` is resized to the term's coefficient count.

@@ -216,3 +216,30 @@ TEST(Jacobian, InactiveConditionGivesZeroColumn) {
 
 }  // namespace
 }  // namespace tpcal::kinematics
+
+namespace tpcal::kinematics {
+namespace {
+
+TEST(ActiveSets, StandardSetsActivateFromZeroErrors) {
+  for (MachineType t : {MachineType::kAcTable, MachineType::kBcTable, MachineType::kBheadCtable, MachineType::kXyz}) {
+    Result<MachineModel> m = MakeMachine(t);
+    ASSERT_TRUE(m.ok());
+    ErrorState e(*m);
+    Result<ActiveSet> iso = ActivateParameters(*m, &e, IsoLocationSet(*m));
+    ASSERT_TRUE(iso.ok()) << iso.status().ToString();
+    EXPECT_EQ(iso->size(), static_cast<int>(IsoLocationSet(*m).size()));
+    if (t == MachineType::kBcTable) EXPECT_EQ(iso->size(), 11);  // seed 001
+    if (t == MachineType::kAcTable) {
+      ErrorState s(*m);
+      Result<ActiveSet> s2 = ActivateParameters(*m, &s, Seed002Set(*m));
+      ASSERT_TRUE(s2.ok()) << s2.status().ToString();
+      EXPECT_EQ(s2->size(), 11);
+      // beta_ZX is found through its alias of E_B(0X)Z.
+      EXPECT_EQ(s.coefficient_info(s2->coefficients[9]).name, "E_B(0X)Z");
+    }
+    EXPECT_FALSE(ActivateParameters(*m, &e, {"E_Q0Q"}).ok());
+  }
+}
+
+}  // namespace
+}  // namespace tpcal::kinematics
