@@ -1,0 +1,55 @@
+#include "fitting/cylinder_fit.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fitting/internal/axis_fit.h"
+#include "fitting/internal/orientation.h"
+
+namespace tpcal::fitting {
+
+Result<FitResult<Cylinder>> FitCylinder(std::span<const Eigen::Vector3d> points_mm, const FitOptions& options,
+                                        std::optional<Eigen::Vector3d> axis_hint) {
+  using internal::CylinderModel;
+  const std::string what = "FitCylinder";
+  auto setup = internal::SetUpAxisFit(points_mm, 5, options, what);
+  if (!setup.ok()) return setup.status();
+  auto dirs = internal::StartDirections(*setup, axis_hint, what, [](const internal::AxisDirectionScore& s,
+                                                                   const Eigen::Vector3d& w) { return s.Cylinder(w); });
+  if (!dirs.ok()) return dirs.status();
+  std::vector<CylinderModel::State> starts;
+  for (const auto& w : *dirs) {
+    if (auto s = internal::ProjectedCircleStart(*setup, w)) starts.push_back(*s);
+  }
+  if (starts.empty()) {
+    return Status(StatusCode::kDegenerate, what + ": no direction gives a circular cross-section (the points do "
+                                                  "not lie on a cylinder: collinear or coplanar?)");
+  }
+  auto run = internal::BestOfStarts<CylinderModel>(points_mm, *setup, starts, options);
+  if (!run.ok()) return run.status().WithContext(what);
+  const CylinderModel model(points_mm, setup->origin_mm, setup->scale_mm);
+  const Eigen::Vector3d a = run->state.axis.dir();
+  if (internal::OrientAlong(a, axis_hint).dot(a) < 0.0) {
+    run->state.axis = internal::Reversed(run->state.axis);
+    run->lin = model.Linearize(run->state, nullptr, nullptr);
+  }
+  if (!(run->state.radius > 0.0) || !(run->state.radius <= 1e6 * setup->extent)) {
+    return Status(StatusCode::kDegenerate,
+                  what + ": the least-squares cylinder has no positive radius below 1e6 x the extent of the data "
+                         "(points nearly coplanar)");
+  }
+  auto summary = internal::Summarize(
+      model, *run, {"offset_u_mm", "offset_v_mm", "tilt_u_rad", "tilt_v_rad", "radius_mm"}, what, options);
+  if (!summary.ok()) return summary.status();
+  FitResult<Cylinder> r;
+  r.feature = Cylinder{model.ToMm(run->state.axis.point), run->state.axis.dir(), run->state.radius * setup->scale_mm};
+  r.n_points = points_mm.size();
+  r.parameter_names = {"offset_u_mm", "offset_v_mm", "tilt_u_rad", "tilt_v_rad", "radius_mm"};
+  r.local_axes = run->state.axis.frame;
+  summary->MoveInto(r);
+  return r;
+}
+
+}  // namespace tpcal::fitting
