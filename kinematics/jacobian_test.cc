@@ -228,7 +228,9 @@ TEST(ActiveSets, StandardSetsActivateFromZeroErrors) {
     Result<ActiveSet> iso = ActivateParameters(*m, &e, IsoLocationSet(*m));
     ASSERT_TRUE(iso.ok()) << iso.status().ToString();
     EXPECT_EQ(iso->size(), static_cast<int>(IsoLocationSet(*m).size()));
-    if (t == MachineType::kBcTable) EXPECT_EQ(iso->size(), 11);  // seed 001
+    if (t == MachineType::kBcTable) {
+      EXPECT_EQ(iso->size(), 11);  // seed 001
+    }
     if (t == MachineType::kAcTable) {
       ErrorState s(*m);
       Result<ActiveSet> s2 = ActivateParameters(*m, &s, Seed002Set(*m));

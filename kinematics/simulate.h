@@ -5,7 +5,8 @@
 // (turning face S1 of seed 002: du = feed along Z, dv = C spin; side of an end mill: du = path
 // direction, dv = along the tool axis, i.e. dv.contact = (0, 0, 1)). SimulateSurfacePoint solves
 //   S(u, v) = p0 + s n0
-// for (u, v, s) by Newton iteration with exact homogeneous transforms, i.e. intersects the probing
+// for (u, v, s) by Newton iteration with exact homogeneous transforms (tangents from the actual
+// motion axes of the chain), i.e. intersects the probing
 // line through the nominal point p0 along the nominal outward normal n0 with the actual surface;
 // s (mm) is the normal deviation (+ = material added outside the nominal surface).
 // The contact point is fixed in the tool frame: for tools whose envelope contact moves on the
@@ -43,8 +44,10 @@ struct CutPoint {
 };
 
 struct SimulateOptions {
-  int max_iterations = 20;  // typically 2-4; more for nearly parallel sweeps
-  double tolerance_mm = 1e-10;  // on the Newton step (u, v, s mapped to mm)
+  int max_iterations = 20;  // typically 2 (1 with zero errors); more for nearly parallel sweeps
+  // Converged when the Newton step (u, v, s mapped to mm), or the next step predicted from the
+  // observed contraction (step_k^2 / step_k-1), is below this.
+  double tolerance_mm = 1e-10;
   Status Validate() const;
 };
 
