@@ -13,7 +13,9 @@
 
 namespace tpcal::kinematics {
 
-// Per-call scratch. Reuse across calls to avoid allocation; not shared between threads.
+// Per-call scratch. Reuse across calls: it avoids allocation and memoises each link's transform
+// (recomputed only when that link's axis position or errors change; safe across models and
+// error states). One per thread.
 // Memo of one link's last evaluation (an implementation detail of Workspace): the rotations
 // derived from its error components are reused while those are bitwise unchanged, and the whole
 // transform while the axis position is unchanged too.
@@ -60,8 +62,9 @@ Eigen::Vector3d NominalToolPointInPart(const MachineModel& model, const AxisStat
 // Unit tool axis (+z of the tool frame) in the part frame, nominal.
 Eigen::Vector3d NominalToolAxisInPart(const MachineModel& model, const AxisState& axes);
 
-// part_from_tool for explicit link error components (link_errors[link][Component], mm, rad);
-// the primitive the functions above use after evaluating the error terms.
+// part_from_tool for explicit link error components (link_errors[link][Component], mm, rad),
+// without a Workspace (the functions above evaluate the error terms, then the same chain with
+// the Workspace memo; both are tested against an independent 4x4 composition).
 Rigid3 PartFromToolWithLinkErrors(const MachineModel& model,
                                   const std::vector<LinkErrors>& link_errors,
                                   const AxisState& axes);
