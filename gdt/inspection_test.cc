@@ -27,6 +27,7 @@ namespace tpcal::gdt {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::HoleName;
 using testing::kZ4;
 using testing::MakeTurningPiece;
 using testing::TurningTruth;
@@ -106,7 +107,7 @@ TEST_F(TurningPiece, Table1ItemsMatchTheKnownErrors) {
   const TurningTruth t;
   std::mt19937_64 rng(20240601);
   for (int trial = 0; trial < 3; ++trial) {
-    SCOPED_TRACE("placement " + std::to_string(trial));
+    SCOPED_TRACE(::testing::Message() << "placement " << trial);
     const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
     auto r = Evaluate(t, cmm_from_part);
     ASSERT_TRUE(r.ok()) << r.status().ToString();
@@ -163,9 +164,9 @@ TEST_F(TurningPiece, Table1ItemsMatchTheKnownErrors) {
     // Hole pattern: hole k's angle error is its own rotation minus phi (D is turned by phi).
     for (int k = 1; k <= 16; ++k) {
       const double expected_rad = (k == t.rotated_hole ? t.rotated_hole_rad : 0.0) - t.Phi();
-      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", "H" + std::to_string(k) + ".angle_error_urad"), RadToUrad(expected_rad),
+      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", HoleName(k) + ".angle_error_urad"), RadToUrad(expected_rad),
                   kTol_urad);
-      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", "H" + std::to_string(k) + ".radial_error_um"), 0.0, kTol_um);
+      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", HoleName(k) + ".radial_error_um"), 0.0, kTol_um);
     }
     EXPECT_NEAR(Get(*r, "hole_pattern_Ch", "radius_error_um"), 0.0, kTol_um);
   }

@@ -60,7 +60,7 @@ std::optional<CharacteristicType> ParseCharacteristicType(std::string_view s);
 std::size_t MinPoints(FeatureKind k);
 
 struct FeatureSpec {
-  std::string name;  // the point file's feature label (for kPitchCircle: a new name)
+  std::string name{};  // the point file's feature label (for kPitchCircle: a new name)
   FeatureKind kind = FeatureKind::kPlane;
   // Line2 / circle / pitch_circle: projection plane (default datum XY). Other kinds: kNone.
   Projection projection = Projection::kNone;
@@ -68,8 +68,8 @@ struct FeatureSpec {
   // Sense of a plane normal, line direction or cylinder axis, in the datum frame (need not be
   // unit). Without it: plane normals, cylinder/circle axes point along the datum axis of their
   // largest component (positive); lines keep the fitter's rule (first -> last probed point).
-  std::optional<Eigen::Vector3d> nominal_direction;
-  std::vector<std::string> members;  // kPitchCircle only: the circle features whose centres it fits
+  std::optional<Eigen::Vector3d> nominal_direction{};
+  std::vector<std::string> members{};  // kPitchCircle only: the circle features whose centres it fits
   std::size_t line = 0;
 };
 
@@ -82,7 +82,7 @@ struct AxisSense {
     kPointOrder,    // (lines only) from the first toward the last probed point
   };
   Rule rule = Rule::kPointNormals;
-  std::string feature;  // for kAwayFrom / kToward
+  std::string feature{};  // for kAwayFrom / kToward
 };
 
 enum class DatumFrameType {
@@ -99,35 +99,35 @@ const char* DatumFrameTypeName(DatumFrameType t);  // "turning", "3-2-1"
 
 struct DatumFrameSpec {
   DatumFrameType type = DatumFrameType::kTurning;
-  std::string primary;    // plane feature
-  std::string center;     // kTurning: circle feature for the XY origin
-  std::string x_toward;   // kTurning: feature whose centre sets +X
-  std::string secondary;  // kThreeTwoOne: line3 feature
-  std::string tertiary;   // kThreeTwoOne: point / sphere / circle feature
-  AxisSense z_sense;      // sense of +Z (primary normal)
+  std::string primary{};    // plane feature
+  std::string center{};     // kTurning: circle feature for the XY origin
+  std::string x_toward{};   // kTurning: feature whose centre sets +X
+  std::string secondary{};  // kThreeTwoOne: line3 feature
+  std::string tertiary{};   // kThreeTwoOne: point / sphere / circle feature
+  AxisSense z_sense{};      // sense of +Z (primary normal)
   AxisSense x_sense{AxisSense::Rule::kPointOrder, {}};  // kThreeTwoOne: sense of +X
   std::size_t line = 0;
 };
 
 struct CharacteristicSpec {
-  std::string name;  // unique within the plan
+  std::string name{};  // unique within the plan
   CharacteristicType type = CharacteristicType::kFlatness;
-  std::string feature;  // the toleranced feature
-  std::string datum;    // the datum feature (concentricity, parallelism, squareness, plane_distance)
-  std::string symbol;       // free text, e.g. the paper's symbol "dx_{S4,SR}, dy_{S4,SR}"
-  std::string description;  // free text
+  std::string feature{};  // the toleranced feature
+  std::string datum{};    // the datum feature (concentricity, parallelism, squareness, plane_distance)
+  std::string symbol{};       // free text, e.g. the paper's symbol "dx_{S4,SR}, dy_{S4,SR}"
+  std::string description{};  // free text
   Projection plane = Projection::kDatumXY;  // concentricity / position / hole_pattern plane
-  std::optional<FormCriterion> criterion;   // circularity / flatness / straightness (default: the feature's)
+  std::optional<FormCriterion> criterion{};   // circularity / flatness / straightness (default: the feature's)
   // Nominals (units in the names). Which are required depends on `type` (PLAN_FORMAT.md).
-  std::optional<double> nominal_radius_mm;
-  std::optional<double> nominal_diameter_mm;
-  std::optional<double> nominal_distance_mm;
-  std::optional<Eigen::Vector2d> nominal_xy_mm;   // position in `plane` coordinates (u, v)
-  std::optional<Eigen::Vector3d> nominal_xyz_mm;  // 3D position in the datum frame
-  std::optional<double> nominal_angle_deg;        // position: polar nominal with nominal_radius_mm
-  std::optional<double> first_angle_deg;          // hole_pattern: nominal angle of the first member
-  std::optional<double> pitch_deg;                // hole_pattern: nominal angular pitch
-  std::vector<double> nominal_angles_deg;         // hole_pattern: one nominal angle per member
+  std::optional<double> nominal_radius_mm{};
+  std::optional<double> nominal_diameter_mm{};
+  std::optional<double> nominal_distance_mm{};
+  std::optional<Eigen::Vector2d> nominal_xy_mm{};   // position in `plane` coordinates (u, v)
+  std::optional<Eigen::Vector3d> nominal_xyz_mm{};  // 3D position in the datum frame
+  std::optional<double> nominal_angle_deg{};        // position: polar nominal with nominal_radius_mm
+  std::optional<double> first_angle_deg{};          // hole_pattern: nominal angle of the first member
+  std::optional<double> pitch_deg{};                // hole_pattern: nominal angular pitch
+  std::vector<double> nominal_angles_deg{};         // hole_pattern: one nominal angle per member
   std::size_t line = 0;
 };
 
@@ -135,18 +135,18 @@ struct CharacteristicSpec {
 // above the A axis, used by the machine-error equations 10-27). The name ends with its unit:
 // _mm, _um, _deg, _rad, _urad, or _count for a pure number.
 struct PlanNominal {
-  std::string name;
+  std::string name{};
   double value = 0;
   std::size_t line = 0;
 };
 
 struct InspectionPlan {
-  std::string source;  // file name, for messages
-  std::string name;
-  std::vector<PlanNominal> nominals;
-  std::optional<DatumFrameSpec> datum_frame;  // none: everything is evaluated in the CMM frame
-  std::vector<FeatureSpec> features;
-  std::vector<CharacteristicSpec> characteristics;
+  std::string source{};  // file name, for messages
+  std::string name{};
+  std::vector<PlanNominal> nominals{};
+  std::optional<DatumFrameSpec> datum_frame{};  // none: everything is evaluated in the CMM frame
+  std::vector<FeatureSpec> features{};
+  std::vector<CharacteristicSpec> characteristics{};
 
   const FeatureSpec* FindFeature(const std::string& name) const;
   std::optional<double> Nominal(const std::string& name) const;  // nullopt if absent

@@ -29,7 +29,7 @@ struct SyntheticCircle {
   double start_angle_rad = 0.0;  // theta of the first point
   bool hole = false;             // normals point toward the axis (a bore / hole wall)
   // Radial deviation dr(theta) in mm added to the radius (positive outward); none: exact circle.
-  std::function<double(double theta_rad)> dr_mm;
+  std::function<double(double theta_rad)> dr_mm{};
 };
 
 struct SyntheticPlaneRing {
@@ -39,7 +39,7 @@ struct SyntheticPlaneRing {
   int n_points = 16;
   double start_angle_rad = 0.0;
   // Deviation along the normal dz(theta) in mm; none: exact plane.
-  std::function<double(double theta_rad)> dz_mm;
+  std::function<double(double theta_rad)> dz_mm{};
 };
 
 // Appends the points (and normals, lines, label) of one feature to `ps`.

@@ -17,6 +17,13 @@
 
 namespace tpcal::gdt::testing {
 
+// "H1" .. "H16" (built by appending: GCC 12 -Wrestrict misfires on "H" + std::to_string(k)).
+inline std::string HoleName(int k) {
+  std::string name = "H";
+  name += std::to_string(k);
+  return name;
+}
+
 // Known errors of the synthetic piece, in the part frame P (mm, rad).
 struct TurningTruth {
   Eigen::Vector2d holes_shift_mm{0.0101, -0.0172};  // pitch circle centre (Table 1 #1)
@@ -59,7 +66,7 @@ inline PointSet MakeTurningPiece(const TurningTruth& t) {
   for (int k = 1; k <= 16; ++k) {
     const double a = DegToRad(22.5 * (k - 1)) + (k == t.rotated_hole ? t.rotated_hole_rad : 0.0);
     const Eigen::Vector2d c = t.holes_shift_mm + 140.0 * Eigen::Vector2d(std::cos(a), std::sin(a));
-    AppendCircle(&ps, "H" + std::to_string(k),
+    AppendCircle(&ps, HoleName(k),
                  {.center_mm = {c.x(), c.y(), -3.0}, .radius_mm = 5.35, .n_points = k == 3 ? t.h3_points : 8,
                   .hole = true});
   }
