@@ -15,7 +15,9 @@
 //    points, containment of every point in the annulus and the alternation of the contacts (the
 //    first-order optimality condition) are checked in exact arithmetic. A global exclusion search
 //    (branch and bound with rigorous Lipschitz bounds, floating point with rounding margins) then
-//    proves no other centre gives a narrower zone: scope kGlobal, exact = true.
+//    proves no other centre gives a narrower zone by more than gap_tolerance_mm / 2: scope kGlobal,
+//    exact = true. Where the far region cannot be excluded (short arcs whose width does not exceed
+//    the zone) or the search budget runs out, the scope stays kLocal and the message says why.
 //  - 3D straightness (cylindrical zone about a line): sequential exact-LP refinement; the global
 //    certificate is a proven lower bound (exact LP on a convex minorant, see straightness_zone.cc)
 //    valid for every line in space: scope kGlobal with optimality_gap_mm ~ width * (width/length)^2.
