@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,7 @@ struct NominalFeature {
   double half_angle_rad = 0.0;  // cone only, in (0, pi/2)
   bool internal = false;        // cylinder: material outside (hole, bore, groove outer wall):
                                 // the normal points toward the axis
+  bool hole = false;            // a small hole: probed with ProbingOptions::points_per_hole
   // Cylinder / cone: axial band (mm along axis from origin). Plane annulus: radial band about
   // origin (r_min may be 0). Polygon planes ignore these.
   double h_min_mm = 0.0, h_max_mm = 0.0;
@@ -53,6 +55,9 @@ struct NominalFeature {
   // Design probing levels (h for cylinders / cones, radius for annuli, v for lines) used when one
   // level per face is asked; the paper's heights for the turning piece.
   std::vector<double> design_levels_mm;
+  // Always probe exactly the design levels, whatever the density asks (a straight face fitted as
+  // a line, a cone section fitted as a circle: more levels would break the fitted primitive).
+  bool fixed_levels = false;
   // Probe-able band for several levels (same coordinate as the levels): inside the patch, away
   // from fillets and edges.
   double level_min_mm = 0.0, level_max_mm = 0.0;

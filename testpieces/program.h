@@ -77,7 +77,8 @@ const char* MoveKindName(MoveKind k);
 
 struct Move {
   MoveKind kind = MoveKind::kRapid;
-  kinematics::AxisState end;  // target commands; end.t_s = time at the end of the move, end.op
+  kinematics::AxisState start;  // commands at the start (the previous move's end)
+  kinematics::AxisState end;    // target commands; end.t_s = time at the end of the move, end.op
   Eigen::Vector2d arc_center_xy_mm = Eigen::Vector2d::Zero();  // kArc: centre, machine XY
   bool clockwise = false;     // kArc: G2 (true) or G3 (false), seen from +Z
   double arc_angle_rad = 0.0; // kArc: swept angle (> 0), 2 pi for a full circle
@@ -124,6 +125,8 @@ struct ProcessModel {
 class ProgramBuilder {
  public:
   explicit ProgramBuilder(const ProcessModel& process);
+  // Where the machine stands before the first move (a safe position); no time passes.
+  void SetStartState(const kinematics::AxisState& state) { state_ = state; }
 
   // Starts operation `name` with `tool` (adds a tool change when the tool number changes).
   void BeginOperation(const std::string& name, const std::string& description, const Tool& tool);

@@ -1,0 +1,70 @@
+#include <cmath>
+
+#include "core/units.h"
+#include "kinematics/forward_kinematics.h"
+#include "kinematics/inverse_kinematics.h"
+#include "testpieces/internal/planning.h"
+
+namespace tpcal::testpieces::internal {
+
+kinematics::AxisState RotaryOnly(const kinematics::AxisState& s) {
+  kinematics::AxisState r = s;
+  r.x_mm = r.y_mm = r.z_mm = 0.0;
+  return r;
+}
+
+Eigen::Matrix3d PartFromToolRotation(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary) {
+  return kinematics::NominalPartFromTool(machine, RotaryOnly(rotary)).rotation();
+}
+
+Result<kinematics::AxisState> AxesForRefPoint(const kinematics::MachineModel& machine,
+                                              const Eigen::Vector3d& ref_point_part_mm,
+                                              const kinematics::AxisState& rotary, bool check_strokes) {
+  kinematics::InverseKinematicsOptions options;
+  options.check_strokes = check_strokes;
+  return kinematics::NominalAxesForToolPoint(machine, ref_point_part_mm, RotaryOnly(rotary),
+                                             Eigen::Vector3d::Zero(), options);
+}
+
+Result<kinematics::AxisDelta> LinearDeltaFor(const kinematics::MachineModel& machine,
+                                             const kinematics::AxisState& rotary, const Eigen::Vector3d& dir_part) {
+  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState a0, AxesForRefPoint(machine, Eigen::Vector3d::Zero(), rotary));
+  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState a1, AxesForRefPoint(machine, dir_part, rotary));
+  return Difference(a1, a0, 1.0);
+}
+
+Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machine, const Eigen::Vector3d& p0,
+                                          const Eigen::Vector3d& n0, const Eigen::Vector3d& ref_point_part_mm,
+                                          const kinematics::AxisState& rotary, const kinematics::SweepDirection& du,
+                                          const kinematics::SweepDirection& dv) {
+  kinematics::CutPoint cut;
+  const Eigen::Matrix3d R = PartFromToolRotation(machine, rotary);
+  cut.contact_in_tool_mm = R.transpose() * (p0 - ref_point_part_mm);
+  TPCAL_ASSIGN_OR_RETURN(cut.axes, AxesForRefPoint(machine, ref_point_part_mm, rotary));
+  cut.axes.t_s = rotary.t_s;
+  cut.axes.op = rotary.op;
+  cut.nominal_point_mm = p0;
+  cut.nominal_normal = n0.normalized();
+  cut.du = du;
+  cut.dv = dv;
+  return cut;
+}
+
+double WrapTwoPi(double a) {
+  a = std::fmod(a, 2.0 * kPi);
+  if (a < 0) a += 2.0 * kPi;
+  return a;
+}
+
+kinematics::AxisDelta Difference(const kinematics::AxisState& a, const kinematics::AxisState& b, double scale) {
+  kinematics::AxisDelta d;
+  d.x_mm = (a.x_mm - b.x_mm) * scale;
+  d.y_mm = (a.y_mm - b.y_mm) * scale;
+  d.z_mm = (a.z_mm - b.z_mm) * scale;
+  d.a_rad = (a.a_rad - b.a_rad) * scale;
+  d.b_rad = (a.b_rad - b.b_rad) * scale;
+  d.c_rad = (a.c_rad - b.c_rad) * scale;
+  return d;
+}
+
+}  // namespace tpcal::testpieces::internal
