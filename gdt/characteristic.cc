@@ -246,6 +246,7 @@ Status EvalPlaneDistance(const CharacteristicSpec& s, const FittedFeature& f, co
   b.Mm("distance_mm", r.distance_mm);
   b.Mm("nominal_distance_mm", *s.nominal_distance_mm);
   b.Um("error_um", r.error_mm);
+  b.Um("separation_error_um", r.separation_error_mm);
   return Status::Ok();
 }
 

@@ -54,16 +54,18 @@ TEST(NoisyTurningPiece, Table1ValuesAreUnbiasedWithThePredictedScatter) {
   // Predicted standard deviations (16 points evenly on each circle / ring):
   //  - LS circle centre, per axis: sigma sqrt(2/n); #5 differences two centres: sigma sqrt(4/n),
   //    plus the datum Z axis's tilt (B_R's LS normal, per axis sigma sqrt(2/(n R_BR^2))) acting
-  //    on the 248 mm between S_R (z = +3) and S4 (z = -245): the projection into the datum XY
-  //    plane moves S4's centre by 248 mm x tilt. That term (0.33 um) exceeds the fit term (0.25 um).
+  //    on the 247.5 mm between S_R (z = +2.5) and S4 (z = -245): the projection into the datum
+  //    XY plane moves S4's centre by 247.5 mm x tilt. That term (0.38 um) exceeds the fit term
+  //    (0.25 um): the datum plane's orientation dominates this concentricity.
   //  - LS plane slope over a ring of radius R: sigma sqrt(2/(n R^2)); #2 differences B1 (R 163 mm)
-  //    and B_R (R 130 mm), which defines Z.
+  //    and B_R (R 114 mm), which defines Z.
   //  - #3: B3's height at its centroid and B_R's (their centroids are both on the Z axis):
   //    sigma sqrt(1/n + 1/n).
   const double n = 16;
-  const double lever_mm = 3.0 - testing::kZ4;
-  const double sd5_um = MmToUm(kSigma_mm * std::sqrt(4 / n + lever_mm * lever_mm * 2 / (n * 130.0 * 130.0)));
-  const double sd2_urad = RadToUrad(kSigma_mm * std::sqrt(2 / (n * 163.0 * 163.0) + 2 / (n * 130.0 * 130.0)));
+  const double lever_mm = testing::kZSR - testing::kZ4;
+  const double r_br = testing::kRBR, r_b1 = testing::kRB1;
+  const double sd5_um = MmToUm(kSigma_mm * std::sqrt(4 / n + lever_mm * lever_mm * 2 / (n * r_br * r_br)));
+  const double sd2_urad = RadToUrad(kSigma_mm * std::sqrt(2 / (n * r_b1 * r_b1) + 2 / (n * r_br * r_br)));
   const double sd3_um = MmToUm(kSigma_mm * std::sqrt(2 / n));
   const Eigen::Vector2d c5 = truth.InD(truth.s4_shift_mm) * kUmPerMm;
   const Eigen::Vector3d nb1 =

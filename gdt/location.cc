@@ -1,6 +1,7 @@
 #include "gdt/location.h"
 
 #include <cassert>
+#include <cmath>
 
 namespace tpcal::gdt {
 
@@ -58,6 +59,7 @@ PlaneDistanceResult PlaneDistance(const fitting::Plane& feature, const fitting::
   PlaneDistanceResult r;
   r.distance_mm = datum.SignedDistance(feature.point_mm);
   r.error_mm = r.distance_mm - nominal_mm;
+  r.separation_error_mm = std::abs(r.distance_mm) - std::abs(nominal_mm);
   return r;
 }
 

@@ -11,7 +11,11 @@
 //  - Distance of plane F from datum plane D: d = n_D . (c_F - p_D), with n_D the datum's
 //      oriented normal (+Z of the turning frame for B_R), c_F the foot on F's LS plane of F's
 //      point centroid, p_D a point of D's LS plane. error = d - nominal: positive when F sits
-//      further along +n_D than nominal. Seed 002 #3: B3 lies below B_R, nominal d = -25 mm.
+//      further along +n_D than nominal. separation_error = |d| - |nominal|: positive when the
+//      planes are further apart than nominal, whichever side F is on (valid while d and nominal
+//      have the same sign). Seed 002 #3: B3 lies below B_R (nominal d = -30 mm for the piece of
+//      testpieces/README.md), so error = -separation_error; the paper's dd_{B3,BR} (eq. 14, the
+//      change of z(B_R) - z(B3)) is separation_error.
 #pragma once
 
 #include <Eigen/Core>
@@ -45,6 +49,7 @@ PlanarOffset CenterOffset(const Eigen::Vector2d& center_mm, const Eigen::Vector2
 struct PlaneDistanceResult {
   double distance_mm = 0;  // signed, along the datum normal
   double error_mm = 0;     // distance - nominal
+  double separation_error_mm = 0;  // |distance| - |nominal|
 };
 
 // Distance of `feature` (its point_mm is taken as c_F) from `datum` (its normal oriented).

@@ -40,6 +40,7 @@ TEST(PlaneDistance, SignedAlongTheDatumNormal) {
   const PlaneDistanceResult r = PlaneDistance(b3, datum, -25.0);
   EXPECT_NEAR(r.distance_mm, -24.977, kTol_mm);
   EXPECT_NEAR(r.error_mm, 0.023, kTol_mm);
+  EXPECT_NEAR(r.separation_error_mm, -0.023, kTol_mm);  // closer to the datum than nominal
   // The feature's normal sense does not matter; the datum's does.
   const fitting::Plane b3_flipped{b3.point_mm, {0, 0, -1}};
   EXPECT_NEAR(PlaneDistance(b3_flipped, datum, -25.0).error_mm, 0.023, kTol_mm);

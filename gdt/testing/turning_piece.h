@@ -54,44 +54,51 @@ struct TurningTruth {
   }
 };
 
-inline constexpr double kZ1 = 400.702 - 405.702, kZ2 = -7.0, kZ3 = 380.702 - 405.702, kZ4 = 160.702 - 405.702,
-                 kZ5 = -250.0, kZ6 = 140.702 - 405.702;
+// Geometry of testpieces/README.md (seed 002 heights; our radii for S4-S6 and shoulders 5 mm
+// below the probing heights), as heights above B_R (z - z_R, z_R = 405.702 mm) and radii, mm.
+inline constexpr double kZR = 405.702;
+inline constexpr double kZSR = 2.5, kZHoles = 403.202 - kZR;  // probing heights of S_R, holes
+inline constexpr double kZ1 = 400.702 - kZR, kZ2 = 390.702 - kZR, kZ3 = 380.702 - kZR, kZ4 = 160.702 - kZR,
+                        kZ5 = 150.702 - kZR, kZ6 = 140.702 - kZR;
+inline constexpr double kZB1 = 395.702 - kZR, kZB3 = 375.702 - kZR;  // shoulders (B1, B3)
+inline constexpr double kRBR = 114.0, kRSR = 119.0, kRB1 = 163.0, kRB3 = 173.0;  // probing radii
+inline constexpr double kR[7] = {0, 160.0, 165.0, 170.0, 175.0, 180.0, 185.0};    // S1..S6
 
 // The piece in P; every feature the turning plan names, 16 points per face, 8 per hole.
 inline PointSet MakeTurningPiece(const TurningTruth& t) {
   PointSet ps;
   ps.source = "synthetic turning piece";
-  AppendPlaneRing(&ps, "B_R", {.center_mm = {0, 0, 0}, .radius_mm = 130.0});
-  AppendCircle(&ps, "S_R", {.center_mm = {0, 0, 3.0}, .radius_mm = 119.0, .hole = true});
+  AppendPlaneRing(&ps, "B_R", {.center_mm = {0, 0, 0}, .radius_mm = kRBR});
+  AppendCircle(&ps, "S_R", {.center_mm = {0, 0, kZSR}, .radius_mm = kRSR, .hole = true});
   for (int k = 1; k <= 16; ++k) {
     const double a = DegToRad(22.5 * (k - 1)) + (k == t.rotated_hole ? t.rotated_hole_rad : 0.0);
     const Eigen::Vector2d c = t.holes_shift_mm + 140.0 * Eigen::Vector2d(std::cos(a), std::sin(a));
     AppendCircle(&ps, HoleName(k),
-                 {.center_mm = {c.x(), c.y(), -3.0}, .radius_mm = 5.35, .n_points = k == 3 ? t.h3_points : 8,
+                 {.center_mm = {c.x(), c.y(), kZHoles}, .radius_mm = 5.35, .n_points = k == 3 ? t.h3_points : 8,
                   .hole = true});
   }
   auto circle = [&](const char* name, const Eigen::Vector2d& shift, double z, double r,
                     const std::function<double(double)>& dr) {
     AppendCircle(&ps, name, {.center_mm = {shift.x(), shift.y(), z}, .radius_mm = r, .dr_mm = dr});
   };
-  circle("S1", t.s1_shift_mm, kZ1, 160.0, t.dr_s1);
-  circle("S2", Eigen::Vector2d::Zero(), kZ2, 165.0, t.dr_s2);
-  circle("S3", t.s3_shift_mm, kZ3, 170.0 + t.s3_radius_error_mm, t.dr_s3);
-  circle("S4", t.s4_shift_mm, kZ4, 160.0, t.dr_s4);
-  circle("S5", Eigen::Vector2d::Zero(), kZ5, 165.0, t.dr_s5);
-  if (t.with_s6) circle("S6", t.s6_shift_mm, kZ6, 170.0, t.dr_s6);
-  // B1: a ring on the face at z1, tilted about its centre.
+  circle("S1", t.s1_shift_mm, kZ1, kR[1], t.dr_s1);
+  circle("S2", Eigen::Vector2d::Zero(), kZ2, kR[2], t.dr_s2);
+  circle("S3", t.s3_shift_mm, kZ3, kR[3] + t.s3_radius_error_mm, t.dr_s3);
+  circle("S4", t.s4_shift_mm, kZ4, kR[4], t.dr_s4);
+  circle("S5", Eigen::Vector2d::Zero(), kZ5, kR[5], t.dr_s5);
+  if (t.with_s6) circle("S6", t.s6_shift_mm, kZ6, kR[6], t.dr_s6);
+  // B1: a ring on the shoulder face, tilted about its centre.
   PointSet b1;
-  AppendPlaneRing(&b1, "B1", {.center_mm = {0, 0, 0}, .radius_mm = 163.0});
+  AppendPlaneRing(&b1, "B1", {.center_mm = {0, 0, 0}, .radius_mm = kRB1});
   const Rigid3 b1_pose =
-      MakeRigid(RotX(t.b1_about_x_rad) * RotY(t.b1_about_y_rad), Eigen::Vector3d(0, 0, kZ1));
+      MakeRigid(RotX(t.b1_about_x_rad) * RotY(t.b1_about_y_rad), Eigen::Vector3d(0, 0, kZB1));
   for (std::size_t i = 0; i < b1.size(); ++i) {
     ps.xyz_mm.push_back(b1_pose * b1.xyz_mm[i]);
     ps.normal.push_back(b1_pose.linear() * b1.normal[i]);
     ps.feature.push_back(ps.InternFeature("B1"));
     ps.line.push_back(ps.line.back() + 1);
   }
-  AppendPlaneRing(&ps, "B3", {.center_mm = {0, 0, kZ3 + t.b3_shift_mm}, .radius_mm = 175.0});
+  AppendPlaneRing(&ps, "B3", {.center_mm = {0, 0, kZB3 + t.b3_shift_mm}, .radius_mm = kRB3});
   return ps;
 }
 
