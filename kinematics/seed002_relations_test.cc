@@ -32,6 +32,12 @@ constexpr double kR1 = 160.0, kR3 = 170.0, kR4 = 160.0, kR6 = 170.0;
 constexpr double kZB1 = 398.702, kZB3 = 375.702;  // faces B1 (A = 0) and B3 (A = -90)
 constexpr double kRhoB1 = 165.0, kRhoB3 = 175.0;  // probing radius on B1, B3
 
+std::string HoleName(int k) {
+  std::string s = "H";
+  s += std::to_string(k);
+  return s;
+}
+
 struct Feature {
   std::string name;
   std::vector<CutPoint> cuts;
@@ -88,7 +94,7 @@ std::vector<Feature> Piece(const MachineModel& m) {
   for (int h = 0; h < 16; ++h) {  // holes H1..H16: reamed at machine (140, 0), C = 22.5 h deg
     const double c_rad = DegToRad(22.5 * h);
     const Eigen::Vector3d centre(140 * std::cos(c_rad), 140 * std::sin(c_rad), kZh);
-    Feature s{"H" + std::to_string(h + 1), {}};
+    Feature s{HoleName(h + 1), {}};
     for (int k = 0; k < 8; ++k) {
       const double phi = 2 * kPi * k / 8;
       const Eigen::Vector3d rad(std::cos(phi), std::sin(phi), 0);
@@ -212,7 +218,7 @@ Table1 Measure(const MachineModel& m, const ErrorState& e, const std::vector<Fea
     return out;
   };
   std::vector<Eigen::Vector3d> hole_centres;
-  for (int h = 1; h <= 16; ++h) hole_centres.push_back(FitCircleXY(datum("H" + std::to_string(h))));
+  for (int h = 1; h <= 16; ++h) hole_centres.push_back(FitCircleXY(datum(HoleName(h))));
   for (Eigen::Vector3d& c : hole_centres) c.z() = 0.0;
   const Eigen::Vector3d ch = FitCircleXY(hole_centres);
   const Eigen::Vector3d s1 = FitCircleXY(datum("S1")), s4 = FitCircleXY(datum("S4"));
