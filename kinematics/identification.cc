@@ -1,0 +1,488 @@
+#include "kinematics/identification.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "core/units.h"
+#include "kinematics/error_parameters.h"
+#include "kinematics/forward_kinematics.h"
+#include "kinematics/internal/combination.h"
+#include "kinematics/internal/student_t.h"
+
+namespace tpcal::kinematics {
+namespace {
+
+using internal::FormatCombination;
+using internal::NormaliseCombination;
+
+// Nuisance columns are scaled to um per urad (rotation) and um per um (translation).
+constexpr int kNuisance = 6;
+constexpr double kUmPerUradPerMm = 1e-3;  // a rotation of 1 urad moves a point at 1 mm by 1e-3 um
+
+Eigen::Matrix3d RotationFromUrad(const double* w_urad) {
+  const Eigen::Vector3d w = Eigen::Vector3d(w_urad[0], w_urad[1], w_urad[2]) * 1e-6;
+  const double a = w.norm();
+  if (a == 0.0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+// Display units per internal unit of every active coefficient.
+std::vector<double> DisplayScales(const ErrorState& errors, const ActiveSet& active) {
+  std::vector<double> s;
+  s.reserve(active.coefficients.size());
+  for (int c : active.coefficients) s.push_back(errors.coefficient_info(c).display_per_internal);
+  return s;
+}
+
+// Catalog symbol of a coefficient (only constant catalog parameters carry one).
+std::string IsoSymbolOf(const MachineModel& model, const std::string& name) {
+  auto info = LookupParameter(model, name);
+  return info.ok() ? info->iso_symbol : std::string();
+}
+
+// Orthonormal basis of the nuisance columns (n x 6) or an empty matrix.
+Eigen::MatrixXd NuisanceBasis(const Eigen::MatrixXd& N) {
+  if (N.cols() == 0) return N;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(N);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(N.rows(), N.cols());
+}
+
+struct Svd {
+  Eigen::VectorXd sigma;
+  Eigen::MatrixXd V;
+};
+
+// SVD of a tall matrix through its R factor (O(n q^2)).
+Svd TallSvd(const Eigen::MatrixXd& A) {
+  const Eigen::Index q = A.cols();
+  Eigen::MatrixXd R;
+  if (A.rows() > 2 * q) {
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
+    R = qr.matrixQR().topRows(q).triangularView<Eigen::Upper>();
+  } else {
+    R = A;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
+  return {svd.singularValues(), svd.matrixV()};
+}
+
+// All residuals of the problem as one Ceres block: parameters z (reduced coefficients, display
+// units along the identifiable directions) and xi (w urad, t um).
+class PointResiduals final : public ceres::CostFunction {
+ public:
+  PointResiduals(const MachineModel& model, const ErrorState& base, const ActiveSet& active,
+                 std::span<const Observation> obs, const Eigen::MatrixXd& V_r,
+                 const std::vector<double>& scales, bool with_alignment)
+      : model_(model), base_(base), active_(active), obs_(obs), V_r_(V_r), scales_(scales),
+        with_alignment_(with_alignment), work_(base) {
+    set_num_residuals(static_cast<int>(obs.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(V_r.cols()));
+    if (with_alignment) mutable_parameter_block_sizes()->push_back(kNuisance);
+  }
+
+  // Coefficient values (internal units) for reduced coordinates z.
+  void SetCoefficients(const double* z, ErrorState* e) const {
+    const Eigen::Map<const Eigen::VectorXd> zz(z, V_r_.cols());
+    const Eigen::VectorXd theta_disp = V_r_ * zz;
+    for (int k = 0; k < active_.size(); ++k) {
+      const int c = active_.coefficients[k];
+      e->set_coefficient(c, base_.coefficient(c) + theta_disp(k) / scales_[k]);
+    }
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    SetCoefficients(parameters[0], &work_);
+    const double* xi = with_alignment_ ? parameters[1] : nullptr;
+    const Eigen::Matrix3d R = xi ? RotationFromUrad(xi) : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d t_mm = xi ? Eigen::Vector3d(Eigen::Vector3d(xi[3], xi[4], xi[5]) * 1e-3) : Eigen::Vector3d::Zero();
+    Workspace ws;
+    const Eigen::Index r = V_r_.cols();
+    for (std::size_t i = 0; i < obs_.size(); ++i) {
+      const Observation& o = obs_[i];
+      const Eigen::Vector3d& n0 = o.cut.nominal_normal;
+      const Eigen::Vector3d m = R * o.measured_mm + t_mm;
+      auto sp = SimulateSurfacePoint(model_, work_, o.cut, &ws);
+      if (!sp.ok()) return false;
+      residuals[i] = MmToUm(n0.dot(m - o.cut.nominal_point_mm) - sp->deviation_mm);
+      if (jacobians && jacobians[0]) {
+        auto row = SurfaceDeviationJacobian(model_, work_, active_, o.cut, *sp);
+        if (!row.ok()) return false;
+        for (Eigen::Index j = 0; j < r; ++j) {
+          double d = 0.0;
+          for (int k = 0; k < active_.size(); ++k) d += (*row)(k) / scales_[k] * V_r_(k, j);
+          jacobians[0][i * r + j] = -MmToUm(d);
+        }
+      }
+      if (with_alignment_ && jacobians && jacobians[1]) {
+        const Eigen::Vector3d mxn = m.cross(n0);
+        double* J = jacobians[1] + i * kNuisance;
+        for (int k = 0; k < 3; ++k) J[k] = MmToUm(mxn(k)) * 1e-6;  // per urad
+        for (int k = 0; k < 3; ++k) J[3 + k] = n0(k);              // um per um
+      }
+    }
+    return true;
+  }
+
+ private:
+  const MachineModel& model_;
+  const ErrorState& base_;
+  const ActiveSet& active_;
+  std::span<const Observation> obs_;
+  const Eigen::MatrixXd& V_r_;
+  const std::vector<double>& scales_;
+  bool with_alignment_;
+  mutable ErrorState work_;
+};
+
+Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu) {
+  Uncertainty out;
+  out.method = m;
+  out.available = std::isfinite(u);
+  out.u = u;
+  const double k95 = internal::StudentTQuantile975(nu);
+  out.ci95_low = value - k95 * u;
+  out.ci95_high = value + k95 * u;
+  return out;
+}
+
+}  // namespace
+
+const char* UncertaintyMethodName(UncertaintyMethod m) {
+  switch (m) {
+    case UncertaintyMethod::kAnalytic: return "analytic";
+    case UncertaintyMethod::kJackknifePoints: return "jackknife_points";
+    case UncertaintyMethod::kJackknifeGroups: return "jackknife_groups";
+    case UncertaintyMethod::kMonteCarlo: return "monte_carlo";
+  }
+  return "unknown";
+}
+
+Status IdentifyOptions::Validate() const {
+  if (max_iterations < 1) return {StatusCode::kInvalidArgument, "max_iterations must be >= 1"};
+  if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0))
+    return {StatusCode::kInvalidArgument, "rank_tolerance must be in (0, 1)"};
+  if (monte_carlo_trials < 0) return {StatusCode::kInvalidArgument, "monte_carlo_trials must be >= 0"};
+  if (primary == UncertaintyMethod::kMonteCarlo && monte_carlo_trials < 100)
+    return {StatusCode::kInvalidArgument, "the Monte Carlo method needs monte_carlo_trials >= 100"};
+  if (primary == UncertaintyMethod::kJackknifeGroups && !jackknife_groups)
+    return {StatusCode::kInvalidArgument, "primary method jackknife_groups needs jackknife_groups = true"};
+  return {};
+}
+
+Result<LinearDesign> LineariseObservations(const MachineModel& model, const ErrorState& errors,
+                                           const ActiveSet& active, std::span<const Observation> observations) {
+  const auto n = static_cast<Eigen::Index>(observations.size());
+  const std::vector<double> scales = DisplayScales(errors, active);
+  LinearDesign d;
+  d.J_dev_params.resize(n, active.size());
+  d.J_dev_alignment.resize(n, kNuisance);
+  d.measured_dev_um.resize(n);
+  d.predicted_dev_um.resize(n);
+  Workspace ws;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Observation& o = observations[static_cast<std::size_t>(i)];
+    auto sp = SimulateSurfacePoint(model, errors, o.cut, &ws);
+    if (!sp.ok()) return sp.status().WithContext("observation " + std::to_string(i));
+    auto row = SurfaceDeviationJacobian(model, errors, active, o.cut, *sp);
+    if (!row.ok()) return row.status().WithContext("observation " + std::to_string(i));
+    for (int k = 0; k < active.size(); ++k) d.J_dev_params(i, k) = MmToUm((*row)(k)) / scales[k];
+    const Eigen::Vector3d& n0 = o.cut.nominal_normal;
+    const Eigen::Vector3d mxn = o.measured_mm.cross(n0);
+    for (int k = 0; k < 3; ++k) d.J_dev_alignment(i, k) = mxn(k) * kUmPerUradPerMm;
+    for (int k = 0; k < 3; ++k) d.J_dev_alignment(i, 3 + k) = n0(k);
+    d.measured_dev_um(i) = MmToUm(n0.dot(o.measured_mm - o.cut.nominal_point_mm));
+    d.predicted_dev_um(i) = MmToUm(sp->deviation_mm);
+  }
+  return d;
+}
+
+Result<IdentificationResult> Identify(const MachineModel& model, const ErrorState& base,
+                                      const ActiveSet& active, std::span<const Observation> observations,
+                                      const IdentifyOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  if (active.size() == 0) return Status(StatusCode::kInvalidArgument, "no error coefficient to identify");
+  const int q = active.size();
+  const int nq = q + (options.fit_alignment ? kNuisance : 0);
+  const auto n = static_cast<Eigen::Index>(observations.size());
+  if (n <= nq)
+    return Status(StatusCode::kTooFewPoints, "identification of " + std::to_string(q) + " coefficients" +
+                                                 (options.fit_alignment ? " and the 6 alignment terms" : "") +
+                                                 " needs more than " + std::to_string(nq) + " points, got " +
+                                                 std::to_string(n));
+  const std::vector<double> scales = DisplayScales(base, active);
+
+  // 1. Identifiability at the base errors.
+  auto lin0 = LineariseObservations(model, base, active, observations);
+  if (!lin0.ok()) return lin0.status();
+  Eigen::MatrixXd A = lin0->J_dev_params;
+  if (options.fit_alignment) {
+    const Eigen::MatrixXd Q = NuisanceBasis(lin0->J_dev_alignment);
+    A -= Q * (Q.transpose() * A);
+  }
+  const Svd svd = TallSvd(A);
+  const double smax = svd.sigma.size() ? svd.sigma(0) : 0.0;
+  int rank = 0;
+  for (Eigen::Index k = 0; k < svd.sigma.size(); ++k)
+    if (svd.sigma(k) > options.rank_tolerance * smax) ++rank;
+  if (rank == 0)
+    return Status(StatusCode::kNotIdentifiable, "the measured points do not depend on any of the " +
+                                                     std::to_string(q) + " coefficients");
+  const Eigen::MatrixXd V_r = svd.V.leftCols(rank);
+  const Eigen::MatrixXd V_n = svd.V.rightCols(q - rank);
+
+  IdentificationResult out(base);
+  out.num_observations = static_cast<std::size_t>(n);
+  {
+    std::map<int, int> groups;
+    for (const auto& o : observations) groups[o.group] = 1;
+    out.num_groups = static_cast<int>(groups.size());
+  }
+  Identifiability& idf = out.identifiability;
+  idf.num_parameters = q;
+  idf.rank = rank;
+  idf.condition_number = smax / svd.sigma(rank - 1);
+  idf.singular_values.assign(svd.sigma.data(), svd.sigma.data() + svd.sigma.size());
+  std::vector<std::string> names(static_cast<std::size_t>(q));
+  std::vector<bool> identifiable(static_cast<std::size_t>(q), true);
+  for (int k = 0; k < q; ++k) {
+    names[k] = base.coefficient_info(active.coefficients[k]).name;
+    if (V_n.cols() > 0 && V_n.row(k).norm() > 1e-6) identifiable[k] = false;
+  }
+  {
+    Eigen::VectorXd r0 = lin0->measured_dev_um - lin0->predicted_dev_um;
+    out.rms_before_um = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
+  }
+
+  // 2. Nonlinear least squares (Ceres) in the identifiable directions and the nuisance.
+  std::vector<double> z(static_cast<std::size_t>(rank), 0.0);
+  std::vector<double> xi(kNuisance, 0.0);
+  {
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    auto* cost = new PointResiduals(model, base, active, observations, V_r, scales, options.fit_alignment);
+    if (options.fit_alignment) {
+      problem.AddResidualBlock(cost, nullptr, z.data(), xi.data());
+    } else {
+      problem.AddResidualBlock(cost, nullptr, z.data());
+    }
+    ceres::Solver::Options sopt;
+    sopt.linear_solver_type = ceres::DENSE_QR;
+    sopt.max_num_iterations = options.max_iterations;
+    sopt.function_tolerance = 1e-14;
+    sopt.parameter_tolerance = 1e-12;
+    sopt.gradient_tolerance = 1e-16;
+    sopt.num_threads = 1;
+    sopt.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(sopt, &problem, &summary);
+    if (summary.termination_type == ceres::FAILURE)
+      return Status(StatusCode::kNotConverged, "identification did not converge: " + summary.message);
+    out.iterations = static_cast<int>(summary.iterations.size());
+    out.termination = ceres::TerminationTypeToString(summary.termination_type) + std::string(": ") + summary.message;
+    cost->SetCoefficients(z.data(), &out.fitted);
+  }
+  const Eigen::Map<const Eigen::VectorXd> zz(z.data(), rank);
+  const Eigen::VectorXd theta = V_r * zz;  // display units
+  if (options.fit_alignment) {
+    out.alignment = MakeRigid(RotationFromUrad(xi.data()), Eigen::Vector3d(xi[3], xi[4], xi[5]) * 1e-3);
+  }
+
+  // 3. The linearised problem at the solution: residuals and design in reduced coordinates.
+  std::vector<Observation> aligned(observations.begin(), observations.end());
+  for (auto& o : aligned) o.measured_mm = out.alignment * o.measured_mm;
+  auto lin = LineariseObservations(model, out.fitted, active, aligned);
+  if (!lin.ok()) return lin.status();
+  const Eigen::VectorXd e = lin->measured_dev_um - lin->predicted_dev_um;
+  out.residuals_um.assign(e.data(), e.data() + e.size());
+  out.rms_after_um = std::sqrt(e.squaredNorm() / static_cast<double>(n));
+  const int m = rank + (options.fit_alignment ? kNuisance : 0);
+  Eigen::MatrixXd Ar(n, m);
+  Ar.leftCols(rank) = lin->J_dev_params * V_r;
+  if (options.fit_alignment) Ar.rightCols(kNuisance) = lin->J_dev_alignment;
+  const double dof = static_cast<double>(n - m);
+  const double sigma2 = e.squaredNorm() / dof;
+  out.sigma_um = std::sqrt(sigma2);
+  const Eigen::MatrixXd AtA = Ar.transpose() * Ar;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(AtA);
+  const Eigen::MatrixXd M = ldlt.solve(Eigen::MatrixXd::Identity(m, m));  // (A^T A)^-1
+  // Map from reduced to display coefficients: theta = T * beta, T = [V_r 0].
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(q, m);
+  T.leftCols(rank) = V_r;
+  const Eigen::MatrixXd cov_analytic = sigma2 * T * M * T.transpose();
+
+  // Jackknife, delete one point (closed form).
+  Eigen::VectorXd jk_mean = Eigen::VectorXd::Zero(q);
+  Eigen::MatrixXd jk_delta(q, n);
+  {
+    const Eigen::MatrixXd MAt = M * Ar.transpose();  // m x n
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double h = Ar.row(i).dot(MAt.col(i));
+      const Eigen::VectorXd db = -MAt.col(i) * e(i) / (1.0 - h);
+      jk_delta.col(i) = T * db;
+    }
+    jk_mean = jk_delta.rowwise().mean();
+  }
+  const Eigen::MatrixXd jk_c = jk_delta.colwise() - jk_mean;
+  const Eigen::VectorXd var_jk = jk_c.rowwise().squaredNorm() * (static_cast<double>(n - 1) / static_cast<double>(n));
+
+  // Jackknife, delete one group (block downdate).
+  Eigen::VectorXd var_jg = Eigen::VectorXd::Constant(q, std::numeric_limits<double>::quiet_NaN());
+  std::string jg_message;
+  if (options.jackknife_groups) {
+    std::map<int, std::vector<Eigen::Index>> groups;
+    for (Eigen::Index i = 0; i < n; ++i) groups[observations[static_cast<std::size_t>(i)].group].push_back(i);
+    const int G = static_cast<int>(groups.size());
+    if (G >= 2) {
+      std::vector<Eigen::VectorXd> deltas;
+      std::vector<int> unavailable_groups;
+      for (const auto& [g, idx] : groups) {
+        const auto ng = static_cast<Eigen::Index>(idx.size());
+        Eigen::MatrixXd Ag(ng, m);
+        Eigen::VectorXd eg(ng);
+        for (Eigen::Index k = 0; k < ng; ++k) {
+          Ag.row(k) = Ar.row(idx[k]);
+          eg(k) = e(idx[k]);
+        }
+        const Eigen::MatrixXd Hgg = Ag * M * Ag.transpose();
+        const Eigen::MatrixXd IminusH = Eigen::MatrixXd::Identity(ng, ng) - Hgg;
+        Eigen::JacobiSVD<Eigen::MatrixXd> s(IminusH);
+        const double smin = s.singularValues()(ng - 1);
+        if (smin < 1e-8) {
+          unavailable_groups.push_back(g);
+          continue;
+        }
+        deltas.push_back(T * (-M * Ag.transpose() * IminusH.ldlt().solve(eg)));
+      }
+      if (unavailable_groups.empty()) {
+        Eigen::VectorXd mean = Eigen::VectorXd::Zero(q);
+        for (const auto& d : deltas) mean += d;
+        mean /= static_cast<double>(G);
+        var_jg.setZero();
+        for (const auto& d : deltas) var_jg += (d - mean).cwiseAbs2();
+        var_jg *= static_cast<double>(G - 1) / static_cast<double>(G);
+      } else {
+        jg_message = "deleting group(s)";
+        for (int g : unavailable_groups) jg_message += " " + std::to_string(g);
+        jg_message += " leaves the other features unable to determine some coefficients";
+      }
+    } else {
+      jg_message = "only one group";
+    }
+  }
+
+  // Monte Carlo (GUM S1) on the linearised model: deviations drawn from a scaled-shifted t
+  // distribution about the fitted values.
+  Eigen::MatrixXd mc;  // q x trials
+  if (options.monte_carlo_trials > 0) {
+    std::mt19937_64 rng(options.seed);
+    std::normal_distribution<double> N01(0.0, 1.0);
+    std::chi_squared_distribution<double> chi2(dof);
+    const Eigen::MatrixXd MAt = M * Ar.transpose();
+    mc.resize(q, options.monte_carlo_trials);
+    Eigen::VectorXd eps(n);
+    for (int t = 0; t < options.monte_carlo_trials; ++t) {
+      const double scale = std::sqrt(sigma2 * dof / chi2(rng));
+      for (Eigen::Index i = 0; i < n; ++i) eps(i) = scale * N01(rng);
+      mc.col(t) = T * (MAt * eps);
+    }
+  }
+
+  // 4. Estimates.
+  const double nu_points = dof;
+  for (int k = 0; k < q; ++k) {
+    ParameterEstimate p;
+    p.name = names[k];
+    p.iso_symbol = IsoSymbolOf(model, p.name);
+    p.unit = base.coefficient_info(active.coefficients[k]).unit;
+    p.identifiable = identifiable[k];
+    p.value = theta(k) + base.coefficient(active.coefficients[k]) * scales[k];
+    if (p.identifiable) {
+      p.uncertainties.push_back(
+          MakeUncertainty(UncertaintyMethod::kAnalytic, p.value, std::sqrt(cov_analytic(k, k)), nu_points));
+      p.uncertainties.push_back(
+          MakeUncertainty(UncertaintyMethod::kJackknifePoints, p.value, std::sqrt(var_jk(k)), nu_points));
+      if (options.jackknife_groups) {
+        Uncertainty ug = MakeUncertainty(UncertaintyMethod::kJackknifeGroups, p.value, std::sqrt(var_jg(k)),
+                                         std::max(1, out.num_groups - 1));
+        if (!ug.available) ug.message = jg_message;
+        p.uncertainties.push_back(ug);
+      }
+      if (mc.size() > 0) {
+        std::vector<double> draws(mc.row(k).data(), mc.row(k).data() + 0);
+        draws.resize(static_cast<std::size_t>(mc.cols()));
+        for (Eigen::Index t = 0; t < mc.cols(); ++t) draws[t] = mc(k, t);
+        std::sort(draws.begin(), draws.end());
+        double mean = 0, ss = 0;
+        for (double d : draws) mean += d;
+        mean /= static_cast<double>(draws.size());
+        for (double d : draws) ss += (d - mean) * (d - mean);
+        Uncertainty um;
+        um.method = UncertaintyMethod::kMonteCarlo;
+        um.available = true;
+        um.u = std::sqrt(ss / static_cast<double>(draws.size() - 1));
+        const auto lo = static_cast<std::size_t>(std::floor(0.025 * static_cast<double>(draws.size())));
+        const auto hi = std::min(draws.size() - 1, static_cast<std::size_t>(std::ceil(0.975 * static_cast<double>(draws.size()))));
+        um.ci95_low = p.value + draws[lo];
+        um.ci95_high = p.value + draws[hi];
+        p.uncertainties.push_back(um);
+      }
+      for (const auto& u : p.uncertainties) {
+        if (u.method == options.primary && u.available) {
+          p.u = u.u;
+          p.ci95_low = u.ci95_low;
+          p.ci95_high = u.ci95_high;
+        }
+      }
+    } else {
+      p.value = 0.0;
+    }
+    out.parameters.push_back(std::move(p));
+  }
+
+  // 5. Non-identifiable coefficients: null directions and estimable combinations.
+  if (V_n.cols() > 0) {
+    std::vector<int> S;
+    for (int k = 0; k < q; ++k)
+      if (!identifiable[k]) {
+        S.push_back(k);
+        idf.not_identifiable.push_back(names[k]);
+      }
+    const auto s = static_cast<Eigen::Index>(S.size());
+    Eigen::MatrixXd NS(s, V_n.cols());
+    for (Eigen::Index a = 0; a < s; ++a) NS.row(a) = V_n.row(S[a]);
+    std::vector<std::string> snames;
+    for (int k : S) snames.push_back(names[k]);
+    for (Eigen::Index j = 0; j < V_n.cols(); ++j) {
+      Eigen::VectorXd c = NS.col(j);
+      NormaliseCombination(&c);
+      Combination comb;
+      comb.names = snames;
+      comb.coefficients.assign(c.data(), c.data() + c.size());
+      comb.text = FormatCombination(snames, comb.coefficients);
+      idf.null_directions.push_back(comb);
+    }
+    for (const Eigen::VectorXd& full : internal::EstimableCombinations(V_n, S)) {
+      Combination comb;
+      comb.names = snames;
+      for (int k : S) comb.coefficients.push_back(full(k));
+      comb.text = FormatCombination(snames, comb.coefficients);
+      double base_value = 0.0;
+      for (int k : S) base_value += full(k) * base.coefficient(active.coefficients[k]) * scales[k];
+      comb.value = full.dot(theta) + base_value;
+      comb.u = std::sqrt(std::max(0.0, full.dot(cov_analytic * full)));
+      idf.estimable.push_back(comb);
+    }
+  }
+  return out;
+}
+
+}  // namespace tpcal::kinematics

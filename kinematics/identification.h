@@ -1,0 +1,148 @@
+// Identification: machine error coefficients from measured surface points of a machined test
+// piece (the point-level solver (b) of the inversion; the GD&T-level closed form of seed 002 is
+// kinematics/seed002_closed_form.h).
+//
+// Model. Each observation is one measured point of a machined surface, already expressed in the
+// nominal part frame (via the datum frame), with the machine state that cut it (CutPoint). Its
+// normal deviation is predicted by the exact virtual machining of kinematics/simulate.h:
+//   r_i(theta, xi) = n0_i . (R(w) m_i + t - p0_i) - s_i(theta)
+// theta = the active error coefficients (internal units, mm / rad), xi = (w, t) a small rigid
+// re-alignment of the measured points (the datum frame is built from measured features, so it
+// carries their errors: a nuisance, always estimated unless disabled). Least squares over all
+// points, solved by Ceres (Levenberg-Marquardt) with Jacobians ds/dtheta from automatic
+// differentiation through the kinematic chain (SurfaceDeviationJacobian).
+//
+// Identifiability. The Jacobian, columns scaled to display units (um, urad) and with the nuisance
+// projected out, is decomposed by SVD. Directions whose singular value is below
+// rank_tolerance * largest are not identifiable: coefficients with a component in them get no
+// value (identifiable = false) and the estimable combinations of those coefficients are reported
+// by name ("dy_AR(-90) + dz_AR(-90)"), with value and uncertainty. The solution is the
+// minimum-norm one in display units (non-identifiable directions set to zero).
+//
+// Uncertainty (k = 1, display units):
+//  - analytic: Gauss-Newton covariance sigma^2 (A^T A)^-1, sigma^2 = SSR / (n - q);
+//  - jackknife, delete one point: closed-form leave-one-out updates of the linearised solution
+//    (no refit): theta_(i) = theta - (A^T A)^-1 a_i e_i / (1 - h_ii);
+//    u^2 = (n - 1) / n * sum (theta_(i) - mean)^2;
+//  - jackknife, delete one group (feature): block downdate with (I - H_gg)^-1; a group whose
+//    removal makes the system singular leaves the affected coefficients without a group value;
+//  - Monte Carlo (GUM Supplement 1): the linearised least-squares map applied to draws of the
+//    point deviations from a scaled-shifted t distribution (nu = n - q) about the fitted values;
+//    u = standard deviation, 95 % interval from the 2.5 / 97.5 % quantiles.
+// 95 % intervals of the other methods: value -+ t(0.975, nu) u.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/frames.h"
+#include "core/status.h"
+#include "kinematics/error_state.h"
+#include "kinematics/machine_model.h"
+#include "kinematics/simulate.h"
+
+namespace tpcal::kinematics {
+
+// One measured surface point.
+struct Observation {
+  CutPoint cut;                                           // how and where it was cut (nominal p0, n0)
+  Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();  // measured point, nominal part frame
+  int group = 0;                                          // feature index (delete-one-group jackknife)
+};
+
+enum class UncertaintyMethod { kAnalytic, kJackknifePoints, kJackknifeGroups, kMonteCarlo };
+const char* UncertaintyMethodName(UncertaintyMethod m);  // "analytic", "jackknife_points", ...
+
+struct IdentifyOptions {
+  bool fit_alignment = true;       // estimate the 6-DOF re-alignment nuisance
+  int max_iterations = 20;         // Levenberg-Marquardt iterations (2-3 are typical)
+  double rank_tolerance = 1e-7;    // relative singular value below which a direction is not identifiable
+  // The method whose u fills ParameterEstimate::u and ci95 (the others are reported beside it).
+  UncertaintyMethod primary = UncertaintyMethod::kJackknifePoints;
+  bool jackknife_groups = true;    // also the delete-one-group jackknife
+  int monte_carlo_trials = 0;      // GUM S1 trials; 0 = off
+  std::uint64_t seed = 1;          // Monte Carlo generator seed
+  Status Validate() const;
+};
+
+// An uncertainty of one coefficient by one method (display units).
+struct Uncertainty {
+  UncertaintyMethod method = UncertaintyMethod::kAnalytic;
+  bool available = false;  // false: the method could not give a value (message says why)
+  double u = 0.0;          // k = 1
+  double ci95_low = 0.0, ci95_high = 0.0;
+  std::string message;
+};
+
+struct ParameterEstimate {
+  std::string name;        // coefficient name (ErrorState), e.g. "dx_CR(0)", "E_XC@A=0.cos2"
+  std::string iso_symbol;  // ISO 230-1 symbol or relation (catalog), "" if none
+  std::string unit;        // display unit: "um", "urad", ...
+  bool identifiable = false;
+  double value = 0.0;      // display units; meaningful only if identifiable
+  double u = 0.0;          // primary method, k = 1
+  double ci95_low = 0.0, ci95_high = 0.0;
+  std::vector<Uncertainty> uncertainties;  // every method computed
+};
+
+// An estimable combination of non-identifiable coefficients: sum_k coefficients[k] * value[k]
+// (display units), normalised so the largest |coefficient| is 1.
+struct Combination {
+  std::vector<std::string> names;
+  std::vector<double> coefficients;
+  std::string text;        // "dy_AR(-90) + dz_AR(-90)"
+  double value = 0.0;      // display units of the first name
+  double u = 0.0;          // analytic, k = 1
+};
+
+struct Identifiability {
+  int num_parameters = 0;
+  int rank = 0;
+  double condition_number = 0.0;            // of the identifiable part (scaled, nuisance removed)
+  std::vector<double> singular_values;      // scaled, descending
+  std::vector<std::string> not_identifiable;
+  std::vector<Combination> estimable;       // combinations that the data do determine
+  // Directions the data cannot see, as combinations (null space), for the report.
+  std::vector<Combination> null_directions;
+};
+
+struct IdentificationResult {
+  explicit IdentificationResult(ErrorState base) : fitted(std::move(base)) {}
+  std::vector<ParameterEstimate> parameters;  // in ActiveSet order
+  Identifiability identifiability;
+  ErrorState fitted;                 // base errors with the identified coefficients set
+  Rigid3 alignment = Rigid3::Identity();  // part_from_measured re-alignment (nuisance)
+  std::size_t num_observations = 0;
+  int num_groups = 0;
+  double rms_before_um = 0.0;        // residual RMS at theta = base, no re-alignment
+  double rms_after_um = 0.0;         // at the solution
+  double sigma_um = 0.0;             // sqrt(SSR / (n - q))
+  int iterations = 0;
+  std::string termination;           // Ceres termination summary
+  std::vector<double> residuals_um;  // per observation, at the solution
+};
+
+// Identifies the coefficients `active` of `base` (all other coefficients stay as in `base`).
+// Errors: kTooFewPoints (n <= q), kInvalidArgument (options, empty active set), kNotIdentifiable
+// (no coefficient identifiable), simulation failures naming the observation.
+Result<IdentificationResult> Identify(const MachineModel& model, const ErrorState& base,
+                                      const ActiveSet& active, std::span<const Observation> observations,
+                                      const IdentifyOptions& options = {});
+
+// The linearised design of the problem at `errors` (display-unit columns for `active`, then the
+// six nuisance columns if fit_alignment): rows = observations. Exposed for diagnosis and tests.
+struct LinearDesign {
+  Eigen::MatrixXd J_dev_params;      // n x q: d predicted deviation (um) / d coefficient (display units)
+  Eigen::MatrixXd J_dev_alignment;   // n x 6: d measured deviation (um) / d (w rad, t mm) ... in um
+  Eigen::VectorXd measured_dev_um;   // n0 . (m - p0), um
+  Eigen::VectorXd predicted_dev_um;  // s_i(errors), um
+};
+Result<LinearDesign> LineariseObservations(const MachineModel& model, const ErrorState& errors,
+                                           const ActiveSet& active, std::span<const Observation> observations);
+
+}  // namespace tpcal::kinematics
