@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/status.h"
 
@@ -24,13 +25,15 @@ struct Command {
   std::function<int()> run;   // runs it after a successful parse
 };
 
-Command RegisterFit(CLI::App& app);
-Command RegisterPlan(CLI::App& app);
-Command RegisterSimulate(CLI::App& app);
-Command RegisterGcode(CLI::App& app);
-Command RegisterIdentify(CLI::App& app);
-Command RegisterDiagnose(CLI::App& app);
-Command RegisterRun(CLI::App& app);
+using Registrar = Command (*)(CLI::App& app);
+
+// The command table. Each command's .cc adds itself from a namespace-scope initialiser:
+//   [[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(10, RegisterFit);
+// `order` sorts the subcommands in --help (fit 10, plan 20, simulate 30, gcode 40,
+// identify 50, diagnose 60, run 70). Returns true.
+bool AddCommand(int order, Registrar registrar);
+// The registered commands, sorted by order.
+std::vector<Registrar> RegisteredCommands();
 
 // Prints "file:line: message" to stderr and returns kExitBadInput.
 int ReportError(const Status& status);

@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
 
   std::vector<Command> commands;
-  for (auto reg : {RegisterFit, RegisterPlan, RegisterSimulate, RegisterGcode, RegisterIdentify, RegisterDiagnose,
-                   RegisterRun}) {
+  for (Registrar reg : RegisteredCommands()) {
     if (Command c = reg(app); c.app != nullptr) commands.push_back(c);
   }
 
