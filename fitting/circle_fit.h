@@ -14,7 +14,7 @@ namespace tpcal::fitting {
 
 // covariance parameters: {"center_x_mm", "center_y_mm", "radius_mm"}. Residuals: |p - c| - R.
 // Errors: kTooFewPoints (< 3), kDegenerate (coincident or collinear points, or a radius beyond
-// 1e6 x the extent of the data), kNotConverged (Levenberg-Marquardt far from a minimum after
+// 1e6 x the extent of the data: the RMS distance of the points from their centroid), kNotConverged (Levenberg-Marquardt far from a minimum after
 // max_iterations), kInvalidArgument (non-finite point or bad options).
 // Accuracy on ISO 10360-6-style certified data (fitting/reference_data.h), arcs of 20 to 360
 // deg, radii 1 to 500 mm, 1000 mm from the origin: better than 1e-8 um (circle_fit_test.cc).

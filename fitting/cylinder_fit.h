@@ -22,7 +22,8 @@ namespace tpcal::fitting {
 // u and v about that point). Residuals: distance to the axis minus radius.
 // Axis sign: along axis_hint if given, else +z component positive (then +y, then +x).
 // Errors: kTooFewPoints (< 5), kDegenerate (coincident, collinear or coplanar points, a
-// single ring (axis tilt undetermined), radius beyond 1e6 x the extent of the data),
+// single ring (axis tilt undetermined), radius beyond 1e6 x the RMS distance of the points
+// from their centroid),
 // kNotConverged, kInvalidArgument (non-finite point or hint, bad options).
 Result<FitResult<Cylinder>> FitCylinder(std::span<const Eigen::Vector3d> points_mm, const FitOptions& options = {},
                                         std::optional<Eigen::Vector3d> axis_hint = std::nullopt);

@@ -22,13 +22,15 @@ bool Moments(std::span<const Eigen::Matrix<double, D, 1>> p, Eigen::Matrix<doubl
   using Vec = Eigen::Matrix<double, D, 1>;
   constexpr std::size_t kN = D + D * (D + 1) / 2;
   const Vec shift = p[0];
-  const auto m = internal::BlockSums<kN>(p.size(), [&](std::size_t i, std::array<double, kN>& a) {
+  const auto m = internal::BlockSums<kN>(p.size(), [&](std::size_t i) {
     const Vec d = p[i] - shift;
+    std::array<double, kN> a;
     std::size_t k = 0;
-    for (int r = 0; r < D; ++r) a[k++] += d[r];
+    for (int r = 0; r < D; ++r) a[k++] = d[r];
     for (int r = 0; r < D; ++r) {
-      for (int c = r; c < D; ++c) a[k++] += d[r] * d[c];
+      for (int c = r; c < D; ++c) a[k++] = d[r] * d[c];
     }
+    return a;
   });
   const double nd = static_cast<double>(p.size());
   Vec mean;
@@ -97,20 +99,19 @@ Result<FitResult<Line2>> FitLine2(std::span<const Eigen::Vector2d> points_mm, co
   r.local_axes.col(2) = Eigen::Vector3d::UnitZ();
   if (options.keep_residuals) r.residuals_mm.resize(n);
   if (options.keep_jacobian) r.jacobian.resize(static_cast<Eigen::Index>(n), 2);
-  double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
-  const auto ss = internal::BlockSums<1>(n, [&](std::size_t i, std::array<double, 1>& a) {
-    const double ri = SignedDistance(line, points_mm[i]);
-    a[0] += ri * ri;
-    r_min = std::min(r_min, ri);
-    r_max = std::max(r_max, ri);
-    if (options.keep_residuals) r.residuals_mm[i] = ri;
+  const internal::ValueSums ss = internal::SumValues(
+      n, [&](std::size_t i) { return SignedDistance(line, points_mm[i]); },
+      options.keep_residuals ? r.residuals_mm.data() : nullptr);
+  if (options.keep_jacobian) {
     // Offset along the left normal lowers r by 1; turning the line by +angle lowers r by
     // the along-line coordinate s.
-    if (options.keep_jacobian) r.jacobian.row(static_cast<Eigen::Index>(i)) << -1.0, -dir.dot(points_mm[i] - centroid);
-  });
-  r.stats = internal::MakeStats(ss[0], r_min, r_max, n, 2);
+    for (std::size_t i = 0; i < n; ++i) {
+      r.jacobian.row(static_cast<Eigen::Index>(i)) << -1.0, -dir.dot(points_mm[i] - centroid);
+    }
+  }
+  r.stats = internal::MakeStats(ss.sum_sq, ss.min, ss.max, n, 2);
   if (options.compute_covariance && n > 2) {
-    const double sigma2 = ss[0] / static_cast<double>(n - 2);
+    const double sigma2 = ss.sum_sq / static_cast<double>(n - 2);
     r.covariance = Eigen::Vector2d(sigma2 / static_cast<double>(n), sigma2 / lambda[1]).asDiagonal();
   }
   r.termination = Termination::kClosedForm;
@@ -140,20 +141,15 @@ Result<FitResult<Line3>> FitLine3(std::span<const Eigen::Vector3d> points_mm, co
   r.local_axes.col(1) = v;
   r.local_axes.col(2) = dir;
   if (options.keep_residuals) r.residuals_mm.resize(n);
-  double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
-  const auto ss = internal::BlockSums<1>(n, [&](std::size_t i, std::array<double, 1>& a) {
-    const double di = dir.cross(points_mm[i] - centroid).norm();
-    a[0] += di * di;
-    r_min = std::min(r_min, di);
-    r_max = std::max(r_max, di);
-    if (options.keep_residuals) r.residuals_mm[i] = di;
-  });
+  const internal::ValueSums ss = internal::SumValues(
+      n, [&](std::size_t i) { return dir.cross(points_mm[i] - centroid).norm(); },
+      options.keep_residuals ? r.residuals_mm.data() : nullptr);
   // Two residual components per point, four parameters: sigma per component.
-  r.stats = internal::MakeStats(ss[0], r_min, r_max, n, 2);
-  r.stats.sigma_mm = n > 2 ? std::sqrt(ss[0] / static_cast<double>(2 * n - 4)) : 0.0;
+  r.stats = internal::MakeStats(ss.sum_sq, ss.min, ss.max, n, 2);
+  r.stats.sigma_mm = n > 2 ? std::sqrt(ss.sum_sq / static_cast<double>(2 * n - 4)) : 0.0;
   if (options.compute_covariance && n > 2) {
     // J^T J = diag(n, n, sum s^2, sum s^2) about the centroid, sum s^2 = largest eigenvalue.
-    const double sigma2 = ss[0] / static_cast<double>(2 * n - 4);
+    const double sigma2 = ss.sum_sq / static_cast<double>(2 * n - 4);
     const double nd = static_cast<double>(n);
     r.covariance = Eigen::Vector4d(sigma2 / nd, sigma2 / nd, sigma2 / lambda[2], sigma2 / lambda[2]).asDiagonal();
   }

@@ -32,11 +32,10 @@ Result<FitResult<Plane>> FitPlane(std::span<const Eigen::Vector3d> points_mm, co
   // One pass: first and second moments about the first point (a point inside the data, so
   // no cancellation against a far origin), accumulated with BlockSums.
   const Eigen::Vector3d shift = points_mm[0];
-  const auto m = internal::BlockSums<9>(n, [&](std::size_t i, std::array<double, 9>& a) {
+  const auto m = internal::BlockSums<9>(n, [&](std::size_t i) {
     const Eigen::Vector3d d = points_mm[i] - shift;
-    a[0] += d.x(); a[1] += d.y(); a[2] += d.z();
-    a[3] += d.x() * d.x(); a[4] += d.x() * d.y(); a[5] += d.x() * d.z();
-    a[6] += d.y() * d.y(); a[7] += d.y() * d.z(); a[8] += d.z() * d.z();
+    return std::array<double, 9>{d.x(),         d.y(),         d.z(),         d.x() * d.x(), d.x() * d.y(),
+                                 d.x() * d.z(), d.y() * d.y(), d.y() * d.z(), d.z() * d.z()};
   });
   const double nd = static_cast<double>(n);
   const Eigen::Vector3d mean_d(m[0] / nd, m[1] / nd, m[2] / nd);
@@ -76,27 +75,19 @@ Result<FitResult<Plane>> FitPlane(std::span<const Eigen::Vector3d> points_mm, co
   // Second pass: residuals n . (p - c) (and, if asked, the Jacobian rows: moving the plane
   // by +offset along the normal lowers every residual by 1; tilting the normal toward u by
   // t raises r by t * u.(p - c)).
-  double r_min = std::numeric_limits<double>::infinity();
-  double r_max = -r_min;
-  double* res = options.keep_residuals ? r.residuals_mm.data() : nullptr;
-  const auto ss = internal::BlockSums<1>(n, [&](std::size_t i, std::array<double, 1>& a) {
-    const Eigen::Vector3d d = points_mm[i] - centroid;
-    const double ri = normal.dot(d);
-    a[0] += ri * ri;
-    r_min = std::min(r_min, ri);
-    r_max = std::max(r_max, ri);
-    if (res != nullptr) res[i] = ri;
-  });
+  const internal::ValueSums ss = internal::SumValues(
+      n, [&](std::size_t i) { return normal.dot(points_mm[i] - centroid); },
+      options.keep_residuals ? r.residuals_mm.data() : nullptr);
   if (options.keep_jacobian) {
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d d = points_mm[i] - centroid;
       r.jacobian.row(static_cast<Eigen::Index>(i)) << -1.0, u.dot(d), v.dot(d);
     }
   }
-  r.stats = internal::MakeStats(ss[0], r_min, r_max, n, 3);
+  r.stats = internal::MakeStats(ss.sum_sq, ss.min, ss.max, n, 3);
   if (options.compute_covariance && n > 3) {
     // J^T J = diag(n, lambda_u, lambda_v): the centroid and the principal axes decouple it.
-    const double sigma2 = ss[0] / (nd - 3.0);
+    const double sigma2 = ss.sum_sq / (nd - 3.0);
     r.covariance = Eigen::Vector3d(sigma2 / nd, sigma2 / lambda[2], sigma2 / lambda[1]).asDiagonal();
   }
   r.termination = Termination::kClosedForm;

@@ -9,8 +9,12 @@
 
 namespace tpcal::fitting {
 
+// Same method as FitCircle2 in three dimensions (Hyper-type algebraic start on centred,
+// scaled data, then Levenberg-Marquardt). Works on caps down to 20 deg half angle.
 // covariance parameters: {"center_x_mm", "center_y_mm", "center_z_mm", "radius_mm"}.
-// Errors: kTooFewPoints (< 4), kDegenerate (coplanar points).
+// Residuals: |p - c| - R.
+// Errors: kTooFewPoints (< 4), kDegenerate (coincident or coplanar points, or a radius beyond
+// 1e6 x the RMS distance of the points from their centroid), kNotConverged, kInvalidArgument.
 Result<FitResult<Sphere>> FitSphere(std::span<const Eigen::Vector3d> points_mm, const FitOptions& options = {});
 
 }  // namespace tpcal::fitting

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace tpcal::fitting::internal {
 
@@ -28,21 +29,55 @@ class NeumaierSum {
 
 inline constexpr std::size_t kSumBlock = 256;
 
-// N accurate sums over items 0..n-1. `add_terms(i, acc)` adds item i's N terms into acc
-// (a std::array<double, N>&). Items are summed naively in blocks of kSumBlock; the block
-// totals are combined with Neumaier compensation.
-template <std::size_t N, typename AddTerms>
-std::array<double, N> BlockSums(std::size_t n, AddTerms&& add_terms) {
+// N accurate sums over items 0..n-1. `terms(i)` returns item i's N terms as a
+// std::array<double, N> (by value: the sums then stay in registers; an accumulator passed by
+// reference to a lambda that also writes through a pointer is kept in memory by the
+// compiler, several times slower). Items are summed naively in blocks of kSumBlock; the
+// block totals are combined with Neumaier compensation.
+template <std::size_t N, typename Terms>
+std::array<double, N> BlockSums(std::size_t n, Terms&& terms) {
   std::array<NeumaierSum, N> total{};
   for (std::size_t b = 0; b < n; b += kSumBlock) {
-    std::array<double, N> acc{};
+    double acc[N] = {};
     const std::size_t e = std::min(n, b + kSumBlock);
-    for (std::size_t i = b; i < e; ++i) add_terms(i, acc);
+    for (std::size_t i = b; i < e; ++i) {
+      const std::array<double, N> t = terms(i);
+      for (std::size_t k = 0; k < N; ++k) acc[k] += t[k];
+    }
     for (std::size_t k = 0; k < N; ++k) total[k].Add(acc[k]);
   }
   std::array<double, N> out{};
   for (std::size_t k = 0; k < N; ++k) out[k] = total[k].Total();
   return out;
+}
+
+// Sum of squares (compensated as BlockSums), minimum and maximum of value(i), i < n; each
+// value is also written to out[i] if out is not null.
+struct ValueSums {
+  double sum_sq = 0.0;
+  double min = std::numeric_limits<double>::infinity();
+  double max = -std::numeric_limits<double>::infinity();
+};
+template <typename Value>
+ValueSums SumValues(std::size_t n, Value&& value, double* __restrict out) {
+  NeumaierSum total;
+  ValueSums s;
+  for (std::size_t b = 0; b < n; b += kSumBlock) {
+    const std::size_t e = std::min(n, b + kSumBlock);
+    double acc = 0.0, lo = s.min, hi = s.max;
+    for (std::size_t i = b; i < e; ++i) {
+      const double v = value(i);
+      acc += v * v;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      if (out != nullptr) out[i] = v;
+    }
+    total.Add(acc);
+    s.min = lo;
+    s.max = hi;
+  }
+  s.sum_sq = total.Total();
+  return s;
 }
 
 // A power of two near `x` > 0: scaling by it is exact in binary floating point, so centred

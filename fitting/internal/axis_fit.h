@@ -123,16 +123,12 @@ class CylinderModel : public AxisModelBase {
   Linearization<kParams> Linearize(const State& s, double* residuals_mm, Eigen::MatrixXd* jacobian) const {
     return LinearizeRows<kParams>(
         points_.size(),
-        [&](std::size_t i, PVec& j, double& r) {
+        [&](std::size_t i, std::array<double, kParams>& j, double& r) {
           const Eigen::Vector3d l = Local(s.axis, i);
           const double rho = std::hypot(l.x(), l.y());
           r = rho - s.radius;
-          if (rho > 0.0) {
-            const double cu = l.x() / rho, cv = l.y() / rho;
-            j << -cu, -cv, -l.z() * cu, -l.z() * cv, -1.0;
-          } else {
-            j << 0.0, 0.0, 0.0, 0.0, -1.0;
-          }
+          const double cu = rho > 0.0 ? l.x() / rho : 0.0, cv = rho > 0.0 ? l.y() / rho : 0.0;
+          j = {-cu, -cv, -l.z() * cu, -l.z() * cv, -1.0};
         },
         scale_, residuals_mm, jacobian, JacobianMmScale(*this));
   }
@@ -161,14 +157,14 @@ class ConeModel : public AxisModelBase {
     const double c = std::cos(s.half_angle), sn = std::sin(s.half_angle);
     return LinearizeRows<kParams>(
         points_.size(),
-        [&](std::size_t i, PVec& j, double& r) {
+        [&](std::size_t i, std::array<double, kParams>& j, double& r) {
           const Eigen::Vector3d l = Local(s.axis, i);
           const double rho = std::hypot(l.x(), l.y());
           r = (rho - s.radius) * c - l.z() * sn;
           // d rho / d offset = -l_uv / rho; d rho / d tilt = -w l_uv / rho; d w / d tilt = l_uv.
           const double cu = rho > 0.0 ? l.x() / rho : 0.0, cv = rho > 0.0 ? l.y() / rho : 0.0;
-          j << -c * cu, -c * cv, -c * l.z() * cu - sn * l.x(), -c * l.z() * cv - sn * l.y(), -c,
-              -(rho - s.radius) * sn - l.z() * c;
+          j = {-c * cu, -c * cv, -c * l.z() * cu - sn * l.x(), -c * l.z() * cv - sn * l.y(), -c,
+               -(rho - s.radius) * sn - l.z() * c};
         },
         scale_, residuals_mm, jacobian, JacobianMmScale(*this));
   }
@@ -235,15 +231,16 @@ class AxisDirectionScore {
 template <typename ToScaled>
 Eigen::Matrix<double, 10, 10> AxisMoments(std::size_t m, ToScaled&& scaled_point) {
   constexpr std::size_t kSums = 55;
-  const auto s = BlockSums<kSums>(m, [&](std::size_t k, std::array<double, kSums>& acc) {
+  const auto s = BlockSums<kSums>(m, [&](std::size_t k) {
     const Eigen::Vector3d q = scaled_point(k);
-    AxisDirectionScore::ZVec z;
-    z << 1.0, q.x(), q.y(), q.z(), q.x() * q.x(), q.y() * q.y(), q.z() * q.z(), q.x() * q.y(), q.x() * q.z(),
-        q.y() * q.z();
+    const std::array<double, 10> z = {1.0,           q.x(),         q.y(),         q.z(),         q.x() * q.x(),
+                                      q.y() * q.y(), q.z() * q.z(), q.x() * q.y(), q.x() * q.z(), q.y() * q.z()};
+    std::array<double, kSums> acc;
     std::size_t t = 0;
     for (int r = 0; r < 10; ++r) {
-      for (int c = r; c < 10; ++c) acc[t++] += z[r] * z[c];
+      for (int c = r; c < 10; ++c) acc[t++] = z[r] * z[c];
     }
+    return acc;
   });
   Eigen::Matrix<double, 10, 10> g;
   std::size_t t = 0;
@@ -310,7 +307,7 @@ struct AxisFitSetup {
   double scale_mm = 1.0;
   std::size_t stride = 1;
   std::vector<Eigen::Vector3d> sample_mm;  // every stride-th point
-  double extent = 0.0;                     // max distance of a sample point from the origin, scaled
+  double extent = 0.0;                     // RMS distance of the points from the origin, scaled
 };
 
 inline Result<AxisFitSetup> SetUpAxisFit(std::span<const Eigen::Vector3d> points_mm, std::size_t min_points,
@@ -323,11 +320,9 @@ inline Result<AxisFitSetup> SetUpAxisFit(std::span<const Eigen::Vector3d> points
   }
   AxisFitSetup s;
   const Eigen::Vector3d shift = points_mm[0];
-  const auto sum = BlockSums<3>(n, [&](std::size_t i, std::array<double, 3>& a) {
+  const auto sum = BlockSums<3>(n, [&](std::size_t i) {
     const Eigen::Vector3d d = points_mm[i] - shift;
-    a[0] += d.x();
-    a[1] += d.y();
-    a[2] += d.z();
+    return std::array<double, 3>{d.x(), d.y(), d.z()};
   });
   s.origin_mm = shift + Eigen::Vector3d(sum[0], sum[1], sum[2]) / static_cast<double>(n);
   if (!s.origin_mm.allFinite()) {
@@ -337,17 +332,15 @@ inline Result<AxisFitSetup> SetUpAxisFit(std::span<const Eigen::Vector3d> points
       }
     }
   }
-  const auto ss = BlockSums<1>(n, [&](std::size_t i, std::array<double, 1>& a) {
-    a[0] += (points_mm[i] - s.origin_mm).squaredNorm();
+  const auto ss = BlockSums<1>(n, [&](std::size_t i) {
+    return std::array<double, 1>{(points_mm[i] - s.origin_mm).squaredNorm()};
   });
   const double rms = std::sqrt(ss[0] / static_cast<double>(n));
   if (!(rms > 0.0) || !std::isfinite(rms)) return Status(StatusCode::kDegenerate, what + ": all points coincide");
   s.scale_mm = PowerOfTwoNear(rms);
   s.stride = std::max<std::size_t>(1, n / kStartSample);
-  for (std::size_t i = 0; i < n; i += s.stride) {
-    s.sample_mm.push_back(points_mm[i]);
-    s.extent = std::max(s.extent, (points_mm[i] - s.origin_mm).norm() / s.scale_mm);
-  }
+  for (std::size_t i = 0; i < n; i += s.stride) s.sample_mm.push_back(points_mm[i]);
+  s.extent = rms / s.scale_mm;
   return s;
 }
 

@@ -3,9 +3,9 @@
 //
 // 1. Centre and scale: origin = centroid of a strided sample (at most kStartSample points),
 //    scale = a power of two near their RMS distance (exact scaling), q = (p - origin)/scale.
-// 2. Algebraic start on that sample: the Hyper fit (Al-Sharadqah & Chernov 2009; its
-//    constraint matrix is 2 Taubin - Pratt, used here in D dimensions), an eigenproblem of
-//    (D+2)x(D+2) moment matrices; falls back to the whole data set if the sample is degenerate.
+// 2. Algebraic start: the Hyper fit (Al-Sharadqah & Chernov 2009; its constraint matrix is
+//    2 Taubin - Pratt, used here in D dimensions), an eigenproblem of (D+2)x(D+2) moment
+//    matrices accumulated in one pass.
 // 3. Levenberg-Marquardt on all points, residual |q - c| - R, parameters (c, R).
 #pragma once
 
@@ -61,17 +61,14 @@ class HypersphereModel {
     const double radius = s.radius;
     return LinearizeRows<kParams>(
         points_.size(),
-        [&](std::size_t i, PVec& j, double& r) {
+        [&](std::size_t i, std::array<double, kParams>& j, double& r) {
           const Vec d = (points_[i] - origin_) * inv_scale_ - c;
           const double rho = d.norm();
           r = rho - radius;
           // d r / d c = -(q - c)/|q - c|; at the centre itself any unit vector is a
           // subgradient, zero keeps the sums finite.
-          if (rho > 0.0) {
-            j.template head<D>() = d * (-1.0 / rho);
-          } else {
-            j.template head<D>().setZero();
-          }
+          const double minus_inv = rho > 0.0 ? -1.0 / rho : 0.0;
+          for (int t = 0; t < D; ++t) j[static_cast<std::size_t>(t)] = d[t] * minus_inv;
           j[D] = -1.0;
         },
         scale_, residuals_mm, jacobian, PVec::Ones());
@@ -110,18 +107,19 @@ Result<typename HypersphereModel<D>::State> HyperStart(const HypersphereModel<D>
   using KVec = Eigen::Matrix<double, K, 1>;
   constexpr std::size_t kSums = K * (K + 1) / 2;
   const std::size_t m = (points_mm.size() + stride - 1) / stride;
-  double max_q2 = 0.0;
-  const auto sums = BlockSums<kSums>(m, [&](std::size_t k, std::array<double, kSums>& a) {
+  const auto sums = BlockSums<kSums>(m, [&](std::size_t k) {
     const Vec q = model.ToScaled(points_mm[k * stride]);
-    KVec z;
+    // Scalars, not an Eigen vector: its packet store and the scalar reloads stall.
+    std::array<double, K> z;
     z[0] = q.squaredNorm();
-    z.template segment<D>(1) = q;
+    for (int t = 0; t < D; ++t) z[static_cast<std::size_t>(t + 1)] = q[t];
     z[K - 1] = 1.0;
-    max_q2 = std::max(max_q2, z[0]);
+    std::array<double, kSums> a;
     std::size_t t = 0;
     for (int r = 0; r < K; ++r) {
-      for (int c = r; c < K; ++c) a[t++] += z[r] * z[c];
+      for (int c = r; c < K; ++c) a[t++] = z[r] * z[c];
     }
+    return a;
   });
   KMat mom;
   {
@@ -176,9 +174,10 @@ Result<typename HypersphereModel<D>::State> HyperStart(const HypersphereModel<D>
   const double a0 = a[0];
   const Vec b = a.template segment<D>(1);
   const double c = a[K - 1];
-  // Radius beyond 1e6 x the extent of the data: the points are a straight line / flat
-  // patch to working precision.
-  *extent = 2.0 * std::sqrt(max_q2);
+  // Radius beyond 1e6 x the extent of the data (its RMS distance from the centroid): the
+  // points are a straight line / flat patch to working precision.
+  const Vec mean = mom.template block<D, 1>(1, K - 1);
+  *extent = std::sqrt(std::max(0.0, mom(0, K - 1) - mean.squaredNorm()));
   const double b_norm = b.norm();
   if (!(std::abs(a0) * 2e6 * *extent > b_norm)) {
     std::ostringstream os;
@@ -205,14 +204,16 @@ Result<HypersphereSolution<D>> FitHypersphere(std::span<const Eigen::Matrix<doub
     return Status(StatusCode::kTooFewPoints,
                   what + " needs at least " + std::to_string(D + 1) + " points, got " + std::to_string(n));
   }
-  Result<typename HypersphereModel<D>::State> start = Status(StatusCode::kDegenerate, "");
+  // Origin and scale from a strided sample (every point if it is degenerate); the Hyper
+  // start from all points (one pass of moments, no square roots): from it Gauss-Newton
+  // needs about two passes, against three from a start on the sample.
   std::optional<HypersphereModel<D>> model;
-  double extent = 0.0;  // of the sample, scaled units
-  // Start on a strided sample; on failure (e.g. an unlucky sample) retry with every point.
   for (std::size_t stride = std::max<std::size_t>(1, n / kStartSample);; stride = 1) {
     const std::size_t m = (n + stride - 1) / stride;
-    const auto sum = BlockSums<D>(m, [&](std::size_t k, std::array<double, D>& a) {
-      for (int t = 0; t < D; ++t) a[t] += points_mm[k * stride][t];
+    const auto sum = BlockSums<D>(m, [&](std::size_t k) {
+      std::array<double, D> a;
+      for (int t = 0; t < D; ++t) a[t] = points_mm[k * stride][t];
+      return a;
     });
     Vec origin;
     for (int t = 0; t < D; ++t) origin[t] = sum[t] / static_cast<double>(m);
@@ -223,19 +224,19 @@ Result<HypersphereSolution<D>> FitHypersphere(std::span<const Eigen::Matrix<doub
         }
       }
     }
-    const auto ss = BlockSums<1>(m, [&](std::size_t k, std::array<double, 1>& a) {
-      a[0] += (points_mm[k * stride] - origin).squaredNorm();
+    const auto ss = BlockSums<1>(m, [&](std::size_t k) {
+      return std::array<double, 1>{(points_mm[k * stride] - origin).squaredNorm()};
     });
     const double rms = std::sqrt(ss[0] / static_cast<double>(m));
     if (rms > 0.0 && std::isfinite(rms)) {
       model.emplace(points_mm, origin, PowerOfTwoNear(rms));
-      start = HyperStart<D>(*model, points_mm, stride, &extent);
-      if (start.ok()) break;
-    } else if (stride == 1) {
-      return Status(StatusCode::kDegenerate, what + ": all points coincide");
+      break;
     }
-    if (stride == 1) return Status(start.status()).WithContext(what);
+    if (stride == 1) return Status(StatusCode::kDegenerate, what + ": all points coincide");
   }
+  double extent = 0.0;  // RMS distance of the points from their centroid, scaled units
+  auto start = HyperStart<D>(*model, points_mm, 1, &extent);
+  if (!start.ok()) return start.status().WithContext(what);
   auto run = RunLm(*model, *start, options);
   if (!run.ok()) return run.status().WithContext(what);
   std::vector<std::string> names;

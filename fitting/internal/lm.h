@@ -51,38 +51,81 @@ struct Linearization {
 template <int P>
 inline constexpr std::size_t kRowSums = P * (P + 1) / 2 + P + 1;
 
-// One pass over n residual rows. row(i, j, r) sets the Jacobian row j (P-vector) and the
+// Term k of a row's sums as a product of two entries of (j_0 .. j_{P-1}, r).
+template <int P>
+inline constexpr auto kRowTerms = [] {
+  std::array<std::pair<int, int>, kRowSums<P>> t{};
+  std::size_t k = 0;
+  for (int a = 0; a < P; ++a) {
+    for (int b = a; b < P; ++b) t[k++] = {a, b};
+  }
+  for (int a = 0; a < P; ++a) t[k++] = {a, P};
+  t[k] = {P, P};
+  return t;
+}();
+
+// acc[k] += jr[first_k] * jr[second_k] with every index a compile-time constant, so the
+// compiler keeps acc in registers (with loop-computed indices it stays in memory and the
+// pass runs several times slower).
+template <int P, std::size_t... K>
+inline void AddRowTerms(std::array<double, kRowSums<P>>& acc, const std::array<double, P + 1>& jr,
+                        std::index_sequence<K...>) {
+  ((acc[K] += jr[kRowTerms<P>[K].first] * jr[kRowTerms<P>[K].second]), ...);
+}
+
+// One pass over n residual rows. row(i, j, r) sets the Jacobian row j (std::array<double, P>) and the
 // residual r of row i, both in scaled units. residuals_mm / jacobian may be null.
 // jacobian_mm_scale[k] converts column k to mm per unit of parameter k.
+// Written for speed (this loop is the whole cost of an iterative fit): per block of
+// kSumBlock rows the sums live in local scalars the compiler keeps in registers (no
+// reference or pointer to them escapes, and the output pointers are __restrict), and the
+// block totals are added with Neumaier compensation as in BlockSums.
 template <int P, typename RowFn>
-Linearization<P> LinearizeRows(std::size_t n, RowFn&& row, double scale_mm, double* residuals_mm,
+Linearization<P> LinearizeRows(std::size_t n, RowFn&& row, double scale_mm, double* __restrict residuals_mm,
                                Eigen::MatrixXd* jacobian, const Eigen::Matrix<double, P, 1>& jacobian_mm_scale) {
-  using PVec = Eigen::Matrix<double, P, 1>;
+  constexpr std::size_t kN = kRowSums<P>;
+  double* __restrict jac = nullptr;
+  if (jacobian != nullptr) {
+    jacobian->resize(static_cast<Eigen::Index>(n), P);
+    jac = jacobian->data();  // column-major: (i, k) at k * n + i
+  }
+  std::array<NeumaierSum, kN> total{};
   double r_min = std::numeric_limits<double>::infinity();
   double r_max = -r_min;
-  if (jacobian != nullptr) jacobian->resize(static_cast<Eigen::Index>(n), P);
-  const auto sums = BlockSums<kRowSums<P>>(n, [&](std::size_t i, std::array<double, kRowSums<P>>& acc) {
-    PVec j;
-    double r;
-    row(i, j, r);
-    std::size_t k = 0;
-    for (int a = 0; a < P; ++a) {
-      for (int b = a; b < P; ++b) acc[k++] += j[a] * j[b];
+  for (std::size_t b = 0; b < n; b += kSumBlock) {
+    const std::size_t e = std::min(n, b + kSumBlock);
+    std::array<double, kN> acc{};
+    double block_r[kSumBlock];
+    double block_min = std::numeric_limits<double>::infinity();
+    double block_max = -block_min;
+    for (std::size_t i = b; i < e; ++i) {
+      std::array<double, P + 1> jr;  // (J row, r); not an Eigen vector: mixed packet/scalar access stalls
+      std::array<double, P> j;
+      row(i, j, jr[P]);
+      for (int a = 0; a < P; ++a) jr[static_cast<std::size_t>(a)] = j[static_cast<std::size_t>(a)];
+      AddRowTerms<P>(acc, jr, std::make_index_sequence<kN>{});
+      const double r = jr[P];
+      block_min = std::min(block_min, r);
+      block_max = std::max(block_max, r);
+      block_r[i - b] = r;
+      if (jac != nullptr) {
+        for (int a = 0; a < P; ++a) jac[static_cast<std::size_t>(a) * n + i] = j[a] * jacobian_mm_scale[a];
+      }
     }
-    for (int a = 0; a < P; ++a) acc[k++] += j[a] * r;
-    acc[k] += r * r;
-    r_min = std::min(r_min, r);
-    r_max = std::max(r_max, r);
-    if (residuals_mm != nullptr) residuals_mm[i] = r * scale_mm;
-    if (jacobian != nullptr) jacobian->row(static_cast<Eigen::Index>(i)) = j.cwiseProduct(jacobian_mm_scale).transpose();
-  });
+    if (residuals_mm != nullptr) {
+      for (std::size_t i = b; i < e; ++i) residuals_mm[i] = block_r[i - b] * scale_mm;
+    }
+    for (std::size_t k = 0; k < kN; ++k) total[k].Add(acc[k]);
+    r_min = std::min(r_min, block_min);
+    r_max = std::max(r_max, block_max);
+  }
   Linearization<P> lin;
   std::size_t k = 0;
   for (int a = 0; a < P; ++a) {
-    for (int b = a; b < P; ++b, ++k) lin.jtj(a, b) = lin.jtj(b, a) = sums[k];
+    for (int b = a; b < P; ++b, ++k) lin.jtj(a, b) = lin.jtj(b, a) = total[k].Total();
   }
-  for (int a = 0; a < P; ++a) lin.jtr[a] = sums[k++];
-  lin.cost = sums[k];
+  for (int a = 0; a < P; ++a) lin.jtr[a] = total[k++].Total();
+  lin.cost = total[k].Total();
   lin.r_min = r_min;
   lin.r_max = r_max;
   return lin;
