@@ -14,6 +14,7 @@ Status PieceSimOptions::Validate() const {
   }
   if (!(max_translation_mm >= 0)) return {StatusCode::kInvalidArgument, "simulation max_translation_mm must be >= 0"};
   if (density) TPCAL_RETURN_IF_ERROR(density->Validate());
+  TPCAL_RETURN_IF_ERROR(process.Validate());
   return solver.Validate();
 }
 
@@ -41,6 +42,12 @@ Result<SimulatedPiece> SimulatePiece(const TestPiece& piece, const kinematics::M
     auto s = kinematics::SimulateSurfacePoint(machine, errors, pp.cut, &ws, options.solver);
     if (!s.ok()) {
       return s.status().WithContext("simulating point " + std::to_string(i) + " of feature " + pp.feature);
+    }
+    if (!options.process.empty()) {
+      auto extra_mm = ProcessDeviationMm(piece, machine, pp, options.process);
+      if (!extra_mm.ok()) return extra_mm.status().WithContext("process effects at point " + std::to_string(i));
+      s->deviation_mm += *extra_mm;
+      s->point_mm += *extra_mm * pp.normal_part;
     }
     out.truth.deviation_mm.push_back(s->deviation_mm);
     out.truth.actual_part_mm.push_back(s->point_mm);

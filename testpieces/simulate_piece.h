@@ -16,6 +16,7 @@
 #include "kinematics/machine_model.h"
 #include "kinematics/simulate.h"
 #include "testpieces/probing_plan.h"
+#include "testpieces/process_effects.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::testpieces {
@@ -28,6 +29,9 @@ struct PieceSimOptions {
   double max_translation_mm = 300.0;   // random placement translation bound
   std::optional<ProbingOptions> density;  // default: the piece's config.probing
   kinematics::SimulateOptions solver;
+  // Process effects (cutting-force deflection, servo reversal; testpieces/process_effects.h)
+  // added along each point's nominal normal after the kinematic solve. Default: none.
+  ProcessEffects process;
   Status Validate() const;
 };
 

@@ -1,0 +1,422 @@
+#include "pipeline/diagnosis.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "core/units.h"
+#include "gdt/inspection.h"
+#include "kinematics/identification.h"
+#include "pipeline/diagnosis_candidates.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+constexpr double kBaseRankTolerance = 1e-7;  // as kinematics::IdentifyOptions::rank_tolerance
+constexpr double kMinLeverage = 1e-9;        // 1 - h below this: the point fits itself (PRESS huge)
+
+// Orthonormal basis of the column space of J (columns scaled to unit norm first).
+struct Basis {
+  Eigen::MatrixXd U;        // n x r
+  Eigen::MatrixXd V;        // p x p (scaled coordinates)
+  Eigen::VectorXd sigma;    // p
+  Eigen::VectorXd scale;    // p: column norms (0 for zero columns)
+  int rank = 0;
+};
+
+Basis MakeBasis(const Eigen::MatrixXd& J, const Eigen::VectorXd& norms, double rel_tol, bool relative_to_largest) {
+  Basis b;
+  b.scale = norms;
+  Eigen::MatrixXd Js = J;
+  for (Eigen::Index j = 0; j < J.cols(); ++j) Js.col(j) = norms(j) > 0 ? Eigen::VectorXd(J.col(j) / norms(j)) : Eigen::VectorXd::Zero(J.rows());
+  if (J.cols() == 0) {
+    b.U.resize(J.rows(), 0);
+    return b;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  b.sigma = svd.singularValues();
+  b.V = svd.matrixV();
+  const double ref = relative_to_largest ? (b.sigma.size() ? b.sigma(0) : 0.0) : 1.0;
+  for (Eigen::Index k = 0; k < b.sigma.size(); ++k)
+    if (b.sigma(k) > rel_tol * ref && b.sigma(k) > 0) ++b.rank;
+  b.U = svd.matrixU().leftCols(b.rank);
+  return b;
+}
+
+Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
+  Eigen::VectorXd n(J.cols());
+  for (Eigen::Index j = 0; j < J.cols(); ++j) n(j) = J.col(j).norm();
+  return n;
+}
+
+// Coefficients (original column units) of the least-squares fit of y on the basis' columns,
+// minimum-norm in scaled units, and their analytic standard uncertainties for residual variance s2.
+void Solve(const Basis& b, const Eigen::VectorXd& y, double s2, Eigen::VectorXd* coef, Eigen::VectorXd* u,
+           std::vector<bool>* identifiable) {
+  const Eigen::Index p = b.scale.size();
+  coef->setZero(p);
+  u->setZero(p);
+  identifiable->assign(static_cast<std::size_t>(p), true);
+  if (p == 0) return;
+  const Eigen::MatrixXd Vr = b.V.leftCols(b.rank);
+  Eigen::VectorXd z = b.U.transpose() * y;
+  for (int k = 0; k < b.rank; ++k) z(k) /= b.sigma(k);
+  Eigen::VectorXd c = Vr * z;
+  Eigen::MatrixXd W = Vr;
+  for (int k = 0; k < b.rank; ++k) W.col(k) /= b.sigma(k);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const double s = b.scale(j) > 0 ? b.scale(j) : 1.0;
+    (*coef)(j) = c(j) / s;
+    (*u)(j) = std::sqrt(s2 * W.row(j).squaredNorm()) / s;
+    const double null_part = b.rank < p ? b.V.row(j).tail(p - b.rank).norm() : 0.0;
+    if (null_part > 1e-6 || b.scale(j) == 0) (*identifiable)[static_cast<std::size_t>(j)] = false;
+  }
+}
+
+// Upper tail of the F distribution (Paulson's normal approximation; adequate for d2 > 30).
+double FUpperTail(double f, double d1, double d2) {
+  if (!(f > 0) || d1 <= 0 || d2 <= 0) return 1.0;
+  const double a = 2.0 / (9.0 * d1), b = 2.0 / (9.0 * d2);
+  const double c = std::cbrt(f);
+  const double z = ((1.0 - b) * c - (1.0 - a)) / std::sqrt(a + b * c * c);
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+double Rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
+
+Eigen::VectorXd Press(const Eigen::VectorXd& r, const Eigen::VectorXd& h) {
+  Eigen::VectorXd e(r.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) e(i) = r(i) / std::max(1.0 - h(i), kMinLeverage);
+  return e;
+}
+
+Eigen::VectorXd RowSquaredNorms(const Eigen::MatrixXd& U) {
+  Eigen::VectorXd h = Eigen::VectorXd::Zero(U.rows());
+  if (U.cols() > 0) h = U.rowwise().squaredNorm();
+  return h;
+}
+
+struct ProjectedCandidate {
+  Basis basis;            // of the candidate columns projected on the complement of the base
+  Eigen::VectorXd fitted; // in the residual space
+};
+
+// The candidate columns C with the span of Q (orthonormal) removed, as a basis whose rank counts
+// directions that keep more than `tol` of their original norm.
+Basis ProjectedBasis(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, double tol) {
+  const Eigen::VectorXd norms = ColumnNorms(C);
+  Eigen::MatrixXd Cp = C;
+  if (Q.cols() > 0) Cp -= Q * (Q.transpose() * C);
+  return MakeBasis(Cp, norms, tol, /*relative_to_largest=*/false);
+}
+
+void GroupStats(const std::map<std::string, std::vector<Eigen::Index>>& groups, const Eigen::VectorXd& r,
+                const std::vector<double>& t_s, double sigma, double z_out, std::vector<GroupGap>* out,
+                std::vector<std::string>* standing, const std::string& prefix) {
+  for (const auto& [name, idx] : groups) {
+    GroupGap g;
+    g.group = name;
+    g.n_points = static_cast<int>(idx.size());
+    double ss = 0, sum = 0, tsum = 0;
+    for (auto i : idx) {
+      ss += r(i) * r(i);
+      sum += r(i);
+      tsum += t_s[static_cast<std::size_t>(i)];
+      g.max_abs_um = std::max(g.max_abs_um, std::abs(r(i)));
+    }
+    const double n = static_cast<double>(idx.size());
+    g.rms_um = std::sqrt(ss / n);
+    g.mean_um = sum / n;
+    g.mean_t_s = tsum / n;
+    g.z = sigma > 0 ? (ss / (sigma * sigma) - n) / std::sqrt(2.0 * n) : 0.0;
+    g.stands_out = g.z > z_out;
+    if (g.stands_out) standing->push_back(prefix + name);
+    out->push_back(g);
+  }
+}
+
+}  // namespace
+
+Status DiagnosisOptions::Validate() const {
+  if (!(alpha > 0 && alpha < 1)) return {StatusCode::kInvalidArgument, "diagnosis alpha must be in (0, 1)"};
+  if (!(absorbed_tolerance > 0 && absorbed_tolerance < 1))
+    return {StatusCode::kInvalidArgument, "diagnosis absorbed_tolerance must be in (0, 1)"};
+  if (!(noise_um >= 0)) return {StatusCode::kInvalidArgument, "diagnosis noise_um must be >= 0"};
+  if (max_harmonic < 1) return {StatusCode::kInvalidArgument, "diagnosis max_harmonic must be >= 1"};
+  if (!(stand_out_z > 0)) return {StatusCode::kInvalidArgument, "diagnosis stand_out_z must be > 0"};
+  return {};
+}
+
+Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
+                                             const kinematics::MachineModel& machine,
+                                             const MeasuredObservations& mo, const DiagnosisOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  const auto& obs = mo.observations;
+  const auto n = static_cast<Eigen::Index>(obs.size());
+  const bool reference_mode = options.reference.has_value();
+  std::vector<std::string> base_names =
+      options.base_parameters.empty() ? DefaultParameterSet(piece, machine) : options.base_parameters;
+
+  // ---- 1. Base model: the base set fitted (Gauss-Newton, two linearisations), or the reference.
+  kinematics::ErrorState errors = reference_mode ? *options.reference : kinematics::ErrorState(machine);
+  kinematics::ActiveSet base_active;
+  if (!base_names.empty()) {
+    if (!reference_mode) {
+      auto act = kinematics::ActivateParameters(machine, &errors, base_names);
+      if (!act.ok()) return act.status();
+      base_active = *act;
+    } else {
+      kinematics::ErrorState tmp = errors;
+      auto act = kinematics::ActivateParameters(machine, &tmp, base_names);
+      if (!act.ok()) return act.status();
+      errors = tmp;
+      base_active = *act;
+    }
+  }
+  const int q_fit = reference_mode ? 0 : base_active.size();
+  if (n <= q_fit + 6)
+    return Status(StatusCode::kTooFewPoints, "diagnosis needs more than " + std::to_string(q_fit + 6) +
+                                                 " points for the base model, got " + std::to_string(n));
+  Eigen::MatrixXd X0;
+  Eigen::VectorXd y;
+  Basis base;
+  Eigen::VectorXd base_coef, base_u;
+  std::vector<bool> base_ident;
+  const int passes = reference_mode ? 1 : 2;
+  for (int pass = 0; pass < passes; ++pass) {
+    auto lin = kinematics::LineariseObservations(machine, errors, base_active, obs);
+    if (!lin.ok()) return lin.status();
+    X0.resize(n, q_fit + 6);
+    if (q_fit > 0) X0.leftCols(q_fit) = lin->J_dev_params;
+    X0.rightCols(6) = lin->J_dev_alignment;
+    y = lin->measured_dev_um - lin->predicted_dev_um;
+    base = MakeBasis(X0, ColumnNorms(X0), kBaseRankTolerance, true);
+    const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
+    const double s2 = r0.squaredNorm() / std::max<double>(1.0, static_cast<double>(n - base.rank));
+    Solve(base, y, s2, &base_coef, &base_u, &base_ident);
+    if (pass + 1 < passes) {  // move the linearisation point to the fitted base errors
+      for (int k = 0; k < q_fit; ++k) {
+        const int c = base_active.coefficients[static_cast<std::size_t>(k)];
+        const double per = errors.coefficient_info(c).display_per_internal;
+        if (base_ident[static_cast<std::size_t>(k)]) errors.set_coefficient(c, errors.coefficient(c) + base_coef(k) / per);
+      }
+    }
+  }
+  // After the second pass base_coef holds the correction at the fitted point: total = fitted + correction.
+  DiagnosisResult out;
+  out.n_points = static_cast<int>(n);
+  out.base_columns = base.rank;
+  out.base_model = reference_mode ? options.reference_name + " (fixed machine errors, re-alignment fitted)"
+                                  : "location errors and squareness (" + std::to_string(q_fit) +
+                                        " parameters) + re-alignment, fitted";
+  for (int k = 0; k < q_fit; ++k) {
+    const int c = base_active.coefficients[static_cast<std::size_t>(k)];
+    const auto& info = errors.coefficient_info(c);
+    EffectParameter p;
+    p.name = info.name;
+    p.unit = info.unit;
+    p.value = errors.coefficient(c) * info.display_per_internal + base_coef(k);
+    p.u = base_u(k);
+    p.identifiable = base_ident[static_cast<std::size_t>(k)];
+    out.base_parameters.push_back(p);
+  }
+  const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
+  const Eigen::VectorXd h0 = RowSquaredNorms(base.U);
+  const double ssr0 = r0.squaredNorm();
+  const double cv_before = Rms(Press(r0, h0));
+  out.rms_um = Rms(r0);
+  out.max_abs_um = r0.size() ? r0.cwiseAbs().maxCoeff() : 0.0;
+  out.gap_um.assign(r0.data(), r0.data() + r0.size());
+  for (const auto& o : obs) out.point_feature.push_back(mo.feature_names[static_cast<std::size_t>(o.group)]);
+
+  // ---- 2. Candidates.
+  auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode);
+  if (!catalogue.ok()) return catalogue.status();
+  const double ln_n = std::log(static_cast<double>(n));
+  std::vector<Basis> bases;
+  std::vector<CandidateResult> results;
+  for (const auto& cc : catalogue->candidates) {
+    CandidateResult cr;
+    cr.family = cc.family;
+    cr.name = cc.name;
+    cr.n_columns = static_cast<int>(cc.J_dev_effect.cols());
+    Basis b = ProjectedBasis(cc.J_dev_effect, base.U, options.absorbed_tolerance);
+    cr.rank = b.rank;
+    cr.observable = b.rank > 0;
+    cr.cv_rms_before_um = cv_before;
+    const Eigen::VectorXd fitted = b.U * (b.U.transpose() * r0);
+    const Eigen::VectorXd r1 = r0 - fitted;
+    const double ssr1 = r1.squaredNorm();
+    const double dof1 = static_cast<double>(n - base.rank - b.rank);
+    cr.rms_after_um = Rms(r1);
+    cr.max_abs_after_um = r1.size() ? r1.cwiseAbs().maxCoeff() : 0.0;
+    cr.shrink_pct = out.rms_um > 0 ? 100.0 * (1.0 - cr.rms_after_um / out.rms_um) : 0.0;
+    cr.cv_rms_after_um = Rms(Press(r1, h0 + RowSquaredNorms(b.U)));
+    cr.cv_shrink_pct = cv_before > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cv_before) : 0.0;
+    if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
+      cr.f_stat = ((ssr0 - ssr1) / b.rank) / (ssr1 / dof1);
+      cr.p_value = FUpperTail(cr.f_stat, b.rank, dof1);
+      cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / ssr0) + b.rank * ln_n;
+    }
+    // Parameters of the effect (joint fit = fit of the residual on the projected columns).
+    Eigen::VectorXd coef, u;
+    std::vector<bool> ident;
+    Solve(b, r0, dof1 > 0 ? ssr1 / dof1 : 0.0, &coef, &u, &ident);
+    for (Eigen::Index j = 0; j < coef.size(); ++j) {
+      cr.parameters.push_back({cc.parameter_names[static_cast<std::size_t>(j)], cc.units[static_cast<std::size_t>(j)],
+                               coef(j), u(j), ident[static_cast<std::size_t>(j)]});
+    }
+    const Eigen::VectorXd effect = cc.J_dev_effect * coef;
+    cr.effect_um.assign(effect.data(), effect.data() + effect.size());
+    // Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef).
+    if (q_fit > 0 && b.rank > 0) {
+      Eigen::VectorXd dcoef, du;
+      std::vector<bool> dident;
+      Solve(base, effect, 0.0, &dcoef, &du, &dident);
+      for (int k = 0; k < q_fit; ++k) {
+        const auto& bp = out.base_parameters[static_cast<std::size_t>(k)];
+        if (std::abs(dcoef(k)) < 1e-9) continue;
+        cr.base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k)});
+      }
+    }
+    bases.push_back(std::move(b));
+    results.push_back(std::move(cr));
+  }
+  const double alpha_each = options.alpha / std::max<std::size_t>(1, results.size());
+  for (auto& cr : results)
+    cr.significant = cr.observable && cr.p_value < alpha_each && cr.cv_rms_after_um < cr.cv_rms_before_um;
+
+  // ---- 3. Verdict and aliasing.
+  std::vector<std::size_t> order(results.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  auto rank_key = [&](std::size_t k) {
+    const auto& c = results[k];
+    return std::make_tuple(c.significant ? 0 : (c.observable ? 1 : 2), c.cv_rms_after_um);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rank_key(a) < rank_key(b); });
+  // Best candidate of each family (first in the ranking).
+  std::map<std::string, std::size_t> best_of_family;
+  for (auto k : order) best_of_family.try_emplace(results[k].family, k);
+
+  // Residual after the base and candidate k, and the test of adding candidate j to it.
+  auto adds_beyond = [&](std::size_t j, std::size_t k) -> double {  // p-value of j given base + k
+    Eigen::MatrixXd Q(n, base.U.cols() + bases[k].U.cols());
+    Q << base.U, bases[k].U;
+    const Eigen::VectorXd rk = r0 - bases[k].U * (bases[k].U.transpose() * r0);
+    Basis bj = ProjectedBasis(catalogue->candidates[j].J_dev_effect, Q, options.absorbed_tolerance);
+    if (bj.rank == 0) return 1.0;
+    const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
+    const double dof = static_cast<double>(n - Q.cols() - bj.rank);
+    if (dof <= 0 || rjk.squaredNorm() <= 0) return 1.0;
+    const double f = ((rk.squaredNorm() - rjk.squaredNorm()) / bj.rank) / (rjk.squaredNorm() / dof);
+    return FUpperTail(f, bj.rank, dof);
+  };
+  double ssr_final = ssr0;
+  int dof_final = base.rank;
+  if (!order.empty() && results[order.front()].significant) {
+    const std::size_t v = order.front();
+    const auto& best = results[v];
+    out.verdict.family = best.family;
+    out.verdict.name = best.name;
+    out.verdict.shrink_pct = best.shrink_pct;
+    out.verdict.cv_shrink_pct = best.cv_shrink_pct;
+    ssr_final = best.rms_after_um * best.rms_after_um * static_cast<double>(n);
+    dof_final = base.rank + best.rank;
+    for (const auto& [family, k] : best_of_family) {
+      if (family == best.family || !results[k].significant) continue;
+      if (adds_beyond(v, k) > options.alpha) {
+        out.verdict.indistinguishable_from.push_back(family);
+      } else if (!out.verdict.also && adds_beyond(k, v) < alpha_each) {
+        out.verdict.also = family;
+      }
+    }
+  }
+  for (auto k : order) out.candidates.push_back(results[k]);
+  // Families without any observable candidate.
+  for (const auto& [family, reason] : catalogue->not_applicable) out.unobservable.push_back({family, reason});
+  std::map<std::string, bool> family_observable;
+  for (const auto& c : out.candidates) family_observable[c.family] = family_observable[c.family] || c.observable;
+  for (const auto& [family, obsv] : family_observable)
+    if (!obsv)
+      out.unobservable.push_back({family, "every candidate of this family is absorbed by the base model and the "
+                                          "re-alignment on this piece and plan (or never acts on the measured points)"});
+
+  // ---- 4. Where the gap lies.
+  out.noise_sigma_um = options.noise_um > 0
+                           ? options.noise_um
+                           : std::sqrt(ssr_final / std::max<double>(1.0, static_cast<double>(n - dof_final)));
+  std::vector<double> t_s(static_cast<std::size_t>(n));
+  std::map<std::string, std::vector<Eigen::Index>> by_feature, by_op, by_a;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& o = obs[static_cast<std::size_t>(i)];
+    t_s[static_cast<std::size_t>(i)] = o.cut.axes.t_s;
+    by_feature[mo.feature_names[static_cast<std::size_t>(o.group)]].push_back(i);
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "op %d", o.cut.axes.op);
+    by_op[buf].push_back(i);
+    const double a_deg = RadToDeg(machine.HasAxis(kinematics::Axis::kA) ? o.cut.axes.a_rad : o.cut.axes.b_rad);
+    std::snprintf(buf, sizeof(buf), "%s=%g deg", machine.HasAxis(kinematics::Axis::kA) ? "A" : "B",
+                  std::round(a_deg * 1000.0) / 1000.0 + 0.0);
+    by_a[buf].push_back(i);
+  }
+  const double s = out.noise_sigma_um;
+  GroupStats(by_feature, r0, t_s, s, options.stand_out_z, &out.by_feature, &out.standing_out, "feature ");
+  GroupStats(by_op, r0, t_s, s, options.stand_out_z, &out.by_operation, &out.standing_out, "");
+  GroupStats(by_a, r0, t_s, s, options.stand_out_z, &out.by_a_index, &out.standing_out, "");
+  {  // linear trend with machining time
+    Eigen::MatrixXd T(n, 2);
+    for (Eigen::Index i = 0; i < n; ++i) T(i, 0) = 1.0, T(i, 1) = t_s[static_cast<std::size_t>(i)] / 3600.0;
+    const Eigen::MatrixXd TtT = T.transpose() * T;
+    if (std::abs(TtT.determinant()) > 1e-12) {
+      const Eigen::Vector2d beta = TtT.ldlt().solve(T.transpose() * r0);
+      out.drift_um_per_h = beta(1);
+      out.drift_u_um_per_h = s * std::sqrt(TtT.inverse()(1, 1));
+    }
+  }
+  {  // C harmonics of circular profiles
+    std::vector<HarmonicGap> all;
+    for (const auto& [name, idx] : by_feature) {
+      if (idx.size() < 8) continue;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
+      c /= static_cast<double>(idx.size());
+      const int kmax = std::min<int>(options.max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
+      for (int k = 1; k <= kmax; ++k) {
+        double a = 0, b = 0;
+        for (auto i : idx) {
+          const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
+          const double phi = std::atan2(d.y(), d.x());
+          a += r0(i) * std::cos(k * phi);
+          b += r0(i) * std::sin(k * phi);
+        }
+        const double m = static_cast<double>(idx.size());
+        a *= 2.0 / m;
+        b *= 2.0 / m;
+        HarmonicGap h{name, k, std::hypot(a, b), RadToDeg(std::atan2(b, a)), 0.0, false};
+        h.z = s > 0 ? h.amplitude_um / (s * std::sqrt(2.0 / m)) : 0.0;
+        all.push_back(h);
+      }
+    }
+    // Rayleigh tail with a Bonferroni bound at 1 %: P(z > t) = exp(-t^2 / 2) per test.
+    const double t = all.empty() ? 0.0 : std::sqrt(2.0 * std::log(static_cast<double>(all.size()) / 0.01));
+    for (auto& h : all) {
+      h.stands_out = h.z > t;
+      if (h.stands_out) out.standing_out.push_back("feature " + h.feature + " harmonic " + std::to_string(h.order));
+    }
+    out.harmonics = std::move(all);
+  }
+  return out;
+}
+
+Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                 const PointSet& measured, const DiagnosisOptions& options) {
+  auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
+  if (!inspection.ok()) return inspection.status();
+  auto obs = ObservationsFromPoints(piece, measured, inspection->datum_from_cmm);
+  if (!obs.ok()) return obs.status();
+  return DiagnoseObservations(piece, machine, *obs, options);
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,176 @@
+#include "pipeline/diagnosis_json.h"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+namespace tpcal::pipeline {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json GroupsJson(const std::vector<GroupGap>& groups, const char* key) {
+  json a = json::array();
+  for (const auto& g : groups)
+    a.push_back({{key, g.group}, {"rms_um", g.rms_um}, {"max_abs_um", g.max_abs_um}, {"n_points", g.n_points},
+                 {"mean_um", g.mean_um}, {"mean_t_s", g.mean_t_s}, {"z", g.z}, {"stands_out", g.stands_out}});
+  return a;
+}
+
+json ParametersJson(const std::vector<EffectParameter>& ps) {
+  json o = json::object();
+  for (const auto& p : ps) {
+    json e = {{"value", p.value}, {"u", p.u}, {"unit", p.unit}};
+    if (!p.identifiable) e["identifiable"] = false;
+    o[p.name] = e;
+  }
+  return o;
+}
+
+std::string Escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else o += c;
+  }
+  return o;
+}
+
+}  // namespace
+
+std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, std::string>& inputs) {
+  json j;
+  j["schema"] = "tpcal.diagnosis/1";
+  j["base_model"] = r.base_model;
+  json gap;
+  gap["rms_um"] = r.rms_um;
+  gap["max_abs_um"] = r.max_abs_um;
+  gap["n_points"] = r.n_points;
+  gap["by_feature"] = GroupsJson(r.by_feature, "feature");
+  gap["by_operation"] = GroupsJson(r.by_operation, "operation");
+  gap["by_a_index"] = GroupsJson(r.by_a_index, "index");
+  gap["drift_um_per_h"] = {{"value", r.drift_um_per_h}, {"u", r.drift_u_um_per_h}};
+  json harmonics = json::array();
+  for (const auto& h : r.harmonics)
+    harmonics.push_back({{"feature", h.feature}, {"order", h.order}, {"amplitude_um", h.amplitude_um},
+                         {"phase_deg", h.phase_deg}, {"z", h.z}, {"stands_out", h.stands_out}});
+  gap["harmonics"] = harmonics;
+  gap["noise_sigma_um"] = r.noise_sigma_um;
+  gap["standing_out"] = r.standing_out;
+  j["gap"] = gap;
+  json cands = json::array();
+  for (const auto& c : r.candidates) {
+    json e;
+    e["family"] = c.family;
+    e["name"] = c.name;
+    e["rms_after_um"] = c.rms_after_um;
+    e["shrink_pct"] = c.shrink_pct;
+    e["cv_rms_before_um"] = c.cv_rms_before_um;
+    e["cv_rms_after_um"] = c.cv_rms_after_um;
+    e["parameters"] = ParametersJson(c.parameters);
+    e["max_abs_after_um"] = c.max_abs_after_um;
+    e["cv_shrink_pct"] = c.cv_shrink_pct;
+    e["observable"] = c.observable;
+    e["n_parameters"] = c.n_columns;
+    e["rank"] = c.rank;
+    e["f_stat"] = c.f_stat;
+    e["p_value"] = c.p_value;
+    e["delta_bic"] = c.delta_bic;
+    e["significant"] = c.significant;
+    json shift = json::array();
+    for (const auto& s : c.base_shift)
+      shift.push_back({{"name", s.name}, {"unit", s.unit}, {"without", s.without_um}, {"with", s.with_um},
+                       {"change", s.with_um - s.without_um}});
+    e["base_shift"] = shift;
+    cands.push_back(e);
+  }
+  j["candidates"] = cands;
+  json v;
+  v["family"] = r.verdict.family;
+  v["name"] = r.verdict.name;
+  v["shrink_pct"] = r.verdict.shrink_pct;
+  v["indistinguishable_from"] = r.verdict.indistinguishable_from;
+  v["cv_shrink_pct"] = r.verdict.cv_shrink_pct;
+  if (r.verdict.also) v["also"] = *r.verdict.also;
+  j["verdict"] = v;
+  json un = json::array();
+  for (const auto& u : r.unobservable) un.push_back({{"family", u.family}, {"reason", u.reason}});
+  j["unobservable"] = un;
+  j["base_parameters"] = ParametersJson(r.base_parameters);
+  if (!inputs.empty()) {
+    json in = json::object();
+    for (const auto& [k, val] : inputs) in[k] = val;
+    j["inputs"] = in;
+  }
+  return j.dump(2) + "\n";
+}
+
+std::string DiagnosisText(const DiagnosisResult& r) {
+  std::string o;
+  o += fmt::format("base model: {}\n", r.base_model);
+  o += fmt::format("gap: rms {:.3f} um, max |gap| {:.3f} um over {} points; noise sigma {:.3f} um; "
+                   "drift with time {:+.3f} +- {:.3f} um/h\n",
+                   r.rms_um, r.max_abs_um, r.n_points, r.noise_sigma_um, r.drift_um_per_h, r.drift_u_um_per_h);
+  if (r.standing_out.empty()) {
+    o += "no group stands out beyond noise\n";
+  } else {
+    o += "standing out beyond noise:";
+    for (const auto& s : r.standing_out) o += " [" + s + "]";
+    o += "\n";
+  }
+  o += fmt::format("\n{:<20} {:<62} {:>5} {:>9} {:>8} {:>9} {:>9} {:>9} {}\n", "family", "candidate", "rank",
+                   "rms_after", "shrink%", "cv_before", "cv_after", "p", "");
+  for (const auto& c : r.candidates) {
+    o += fmt::format("{:<20} {:<62.62} {:>5} {:>9.3f} {:>8.1f} {:>9.3f} {:>9.3f} {:>9.2g} {}\n", c.family, c.name,
+                     c.rank, c.rms_after_um, c.shrink_pct, c.cv_rms_before_um, c.cv_rms_after_um, c.p_value,
+                     c.significant ? "*" : (c.observable ? "" : "unobservable"));
+  }
+  o += fmt::format("\nverdict: {} ({}), shrink {:.1f} % in-sample, {:.1f} % cross-validated\n", r.verdict.family,
+                   r.verdict.name, r.verdict.shrink_pct, r.verdict.cv_shrink_pct);
+  if (!r.verdict.indistinguishable_from.empty()) {
+    o += "  cannot be told apart on this piece and plan from:";
+    for (const auto& f : r.verdict.indistinguishable_from) o += " " + f;
+    o += "\n";
+  }
+  if (r.verdict.also) o += "  a second effect adds beyond it: " + *r.verdict.also + "\n";
+  if (r.verdict.family != "none" && !r.candidates.empty()) {
+    const auto& best = r.candidates.front();
+    o += "  parameters:\n";
+    for (const auto& p : best.parameters)
+      o += fmt::format("    {:<28} {:>10.4g} +- {:<10.3g} {}{}\n", p.name, p.value, p.u, p.unit,
+                       p.identifiable ? "" : " (not identifiable alone)");
+    if (!best.base_shift.empty()) {
+      o += "  change of the identified machine errors when it is modelled:\n";
+      for (const auto& s : best.base_shift)
+        o += fmt::format("    {:<16} {:>9.3f} -> {:>9.3f} {}\n", s.name, s.without_um, s.with_um, s.unit);
+    }
+  }
+  for (const auto& u : r.unobservable) o += "unobservable: " + u.family + ": " + u.reason + "\n";
+  return o;
+}
+
+std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
+  std::string o = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + Escape(title) +
+                  "</title><style>body{font-family:sans-serif}table{border-collapse:collapse}td,th{border:1px "
+                  "solid #999;padding:2px 6px;text-align:right}td.l{text-align:left}.hi{background:#fdd}</style>"
+                  "</head><body>\n<h1>" + Escape(title) + "</h1>\n";
+  o += "<h2>Verdict</h2><p><b>" + Escape(r.verdict.family) + "</b>: " + Escape(r.verdict.name) +
+       fmt::format(" (shrink {:.1f} % in-sample, {:.1f} % cross-validated)", r.verdict.shrink_pct, r.verdict.cv_shrink_pct) +
+       "</p>\n";
+  if (!r.verdict.indistinguishable_from.empty()) {
+    o += "<p>Cannot be told apart on this piece and plan from:";
+    for (const auto& f : r.verdict.indistinguishable_from) o += " " + Escape(f);
+    o += "</p>\n";
+  }
+  o += "<h2>Gap</h2><pre>" + Escape(DiagnosisText(r)) + "</pre>\n";
+  o += "<h2>Gap by feature</h2><table><tr><th>feature</th><th>n</th><th>rms um</th><th>max um</th><th>mean um</th><th>z</th></tr>\n";
+  for (const auto& g : r.by_feature)
+    o += fmt::format("<tr{}><td class=l>{}</td><td>{}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>\n",
+                     g.stands_out ? " class=hi" : "", Escape(g.group), g.n_points, g.rms_um, g.max_abs_um, g.mean_um, g.z);
+  o += "</table>\n</body></html>\n";
+  return o;
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,22 @@
+// Output of the diagnosis: the `tpcal.diagnosis/1` JSON (contracts README section 4; the keys
+// there in that form, plus documented extras) and a readable report (plain text and HTML).
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "pipeline/diagnosis.h"
+
+namespace tpcal::pipeline {
+
+// `inputs` are written under "inputs" (points file, test piece, machine, options, seed): the
+// effective configuration beside the result.
+std::string DiagnosisJson(const DiagnosisResult& result, const std::map<std::string, std::string>& inputs = {});
+
+// Plain-text report: gap, groups standing out, candidate table, verdict, aliasing, unobservable families.
+std::string DiagnosisText(const DiagnosisResult& result);
+
+// Self-contained HTML page with the same content.
+std::string DiagnosisHtml(const DiagnosisResult& result, const std::string& title);
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,360 @@
+#include "pipeline/diagnosis_validate.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "core/units.h"
+#include "kinematics/error_parameters.h"
+#include "kinematics/errors_yaml.h"
+#include "kinematics/identification.h"
+#include "pipeline/diagnosis.h"
+#include "pipeline/identify_stage.h"
+#include "testpieces/simulate_piece.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+const std::vector<std::string>& AllFamilies() {
+  static const std::vector<std::string> f = {"thermal_drift",     "linear_straightness", "linear_positioning",
+                                             "rotary_error_motion", "rotary_positioning", "tool_deflection",
+                                             "servo_reversal",    "probe_radius",        "none"};
+  return f;
+}
+
+double Uniform(std::mt19937_64& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
+int Pick(std::mt19937_64& rng, int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng); }
+double RandomSign(std::mt19937_64& rng) { return Pick(rng, 2) ? 1.0 : -1.0; }
+
+// One withheld effect at unit scale: machine terms (an ErrorState holding only them), process
+// effects, or a probe-radius error; Scale() multiplies it.
+struct Withheld {
+  std::string detail;
+  std::optional<kinematics::ErrorState> terms;
+  testpieces::ProcessEffects process;
+  double probe_um = 0.0;
+  void Scale(double k) {
+    if (terms)
+      for (int c = 0; c < terms->num_coefficients(); ++c) terms->set_coefficient(c, k * terms->coefficient(c));
+    if (process.deflection) process.deflection->scale *= k;
+    if (process.servo) {
+      auto& s = *process.servo;
+      s.spike_x_um *= k, s.spike_y_um *= k, s.backlash_x_um *= k, s.backlash_y_um *= k;
+    }
+    probe_um *= k;
+  }
+};
+
+struct AxisRange { double lo = 1e300, hi = -1e300; };
+
+Result<Withheld> MakeWithheld(const std::string& family, const kinematics::MachineModel& machine,
+                              const testpieces::ProbingPlan& plan, double duration_s, std::mt19937_64& rng) {
+  Withheld w;
+  auto parse = [&](const std::string& item) -> Status {
+    auto s = kinematics::ParseErrorState("effects: [" + item + "]", "<validation effect>", machine);
+    if (!s.ok()) return s.status();
+    w.terms = std::move(*s);
+    w.detail = item;
+    return {};
+  };
+  if (family == "thermal_drift") {
+    const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C"};
+    const std::string p = params[Pick(rng, 6)];
+    if (Pick(rng, 10) < 7) {
+      const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
+      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, K_um: {}, tau_s: {}}}}}", p, RandomSign(rng), tau)));
+    } else {
+      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, rate_um_per_h: {}}}}}", p, RandomSign(rng))));
+    }
+  } else if (family == "linear_straightness") {
+    const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
+    const std::string s = syms[Pick(rng, 6)];
+    const char axis = s[3];
+    AxisRange r;
+    for (const auto& pp : plan.points) {
+      const double q = axis == 'X' ? pp.cut.axes.x_mm : axis == 'Y' ? pp.cut.axes.y_mm : pp.cut.axes.z_mm;
+      r.lo = std::min(r.lo, q), r.hi = std::max(r.hi, q);
+    }
+    if (r.hi - r.lo < 2.0) r.lo -= 1.0, r.hi += 1.0;
+    const int nodes = 5;
+    std::vector<double> pos(nodes), val(nodes);
+    for (int k = 0; k < nodes; ++k) pos[k] = r.lo - 1.0 + (r.hi - r.lo + 2.0) * k / (nodes - 1), val[k] = Uniform(rng, -1, 1);
+    // remove the linear trend (that part is squareness / angular error, in the base)
+    double mp = 0, mv = 0;
+    for (int k = 0; k < nodes; ++k) mp += pos[k] / nodes, mv += val[k] / nodes;
+    double sxy = 0, sxx = 0;
+    for (int k = 0; k < nodes; ++k) sxy += (pos[k] - mp) * (val[k] - mv), sxx += (pos[k] - mp) * (pos[k] - mp);
+    for (int k = 0; k < nodes; ++k) val[k] -= mv + sxy / sxx * (pos[k] - mp);
+    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{linear_error_motion: {{symbol: {}, positions_mm: [{}], values_um: [{}], interpolation: cubic}}}}",
+                                            s, fmt::join(pos, ", "), fmt::join(val, ", "))));
+  } else if (family == "linear_positioning") {
+    const char* syms[] = {"E_XX", "E_YY", "E_ZZ"};
+    const std::string s = syms[Pick(rng, 3)];
+    const double c1 = RandomSign(rng) * 1e-3, c2 = Pick(rng, 2) ? Uniform(rng, -1, 1) * 2e-6 : 0.0;
+    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{linear_error_motion: {{symbol: {}, coefficients_um_per_mm_pow: [0, {}, {}]}}}}", s, c1, c2)));
+  } else if (family == "rotary_error_motion") {
+    const char* syms[] = {"E_XC", "E_YC", "E_ZC", "E_AC", "E_BC"};
+    const int si = Pick(rng, 5);
+    const std::string unit = si >= 3 ? "urad" : "um";
+    std::string h;
+    const int n_h = 1 + Pick(rng, 2);
+    std::vector<int> orders;
+    while (static_cast<int>(orders.size()) < n_h) {
+      const int o = 2 + Pick(rng, 4);
+      if (std::find(orders.begin(), orders.end(), o) == orders.end()) orders.push_back(o);
+    }
+    for (int o : orders) {
+      const double ph = Uniform(rng, 0, 2 * kPi);
+      h += fmt::format("{}{{order: {}, cos_{}: {}, sin_{}: {}}}", h.empty() ? "" : ", ", o, unit, std::cos(ph), unit, std::sin(ph));
+    }
+    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{rotary_error_motion: {{symbol: {}, harmonics: [{}]}}}}", syms[si], h)));
+  } else if (family == "rotary_positioning") {
+    std::string h;
+    for (int o = 1; o <= 3; ++o) {
+      if (o > 1 && Pick(rng, 2)) continue;
+      const double ph = Uniform(rng, 0, 2 * kPi), a = Uniform(rng, 0.3, 1.0);
+      h += fmt::format("{}{{order: {}, cos_urad: {}, sin_urad: {}}}", h.empty() ? "" : ", ", o, a * std::cos(ph), a * std::sin(ph));
+    }
+    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{rotary_error_motion: {{symbol: E_CC, harmonics: [{}]}}}}", h)));
+  } else if (family == "tool_deflection") {
+    testpieces::ToolDeflectionModel m;
+    m.compliance_um_per_n = Eigen::Vector3d(Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04));
+    m.passive_ratio = Uniform(rng, 0.2, 0.6);
+    m.feed_ratio = Uniform(rng, 0.1, 0.5);
+    w.process.deflection = m;
+    w.detail = fmt::format("tool deflection, compliance ({:.3f}, {:.3f}, {:.3f}) um/N, Fp/Fc {:.2f}, Ff/Fc {:.2f}",
+                           m.compliance_um_per_n.x(), m.compliance_um_per_n.y(), m.compliance_um_per_n.z(), m.passive_ratio,
+                           m.feed_ratio);
+  } else if (family == "servo_reversal") {
+    testpieces::ServoReversalModel m;
+    m.spike_x_um = Uniform(rng, 0.3, 1.0);
+    m.spike_y_um = Uniform(rng, 0.3, 1.0);
+    m.decay_deg = Uniform(rng, 2.0, 8.0);
+    if (Pick(rng, 2)) m.backlash_x_um = Uniform(rng, 0.0, 0.5), m.backlash_y_um = Uniform(rng, 0.0, 0.5);
+    w.process.servo = m;
+    w.detail = fmt::format("servo glitches X {:.2f}, Y {:.2f}, decay {:.1f} deg, backlash X {:.2f}, Y {:.2f}", m.spike_x_um,
+                           m.spike_y_um, m.decay_deg, m.backlash_x_um, m.backlash_y_um);
+  } else if (family == "probe_radius") {
+    w.probe_um = RandomSign(rng);
+    w.detail = "probe radius error";
+  } else if (family != "none") {
+    return Status(StatusCode::kInvalidArgument, "unknown validation family '" + family + "'");
+  }
+  return w;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+}  // namespace
+
+Status ValidationOptions::Validate() const {
+  for (const auto& f : families)
+    if (std::find(AllFamilies().begin(), AllFamilies().end(), f) == AllFamilies().end())
+      return {StatusCode::kInvalidArgument, "validation: unknown family '" + f + "'"};
+  if (magnitudes.empty() || noise_um.empty()) return {StatusCode::kInvalidArgument, "validation: empty magnitude or noise list"};
+  for (double m : magnitudes)
+    if (!(m > 0)) return {StatusCode::kInvalidArgument, "validation: magnitudes must be > 0"};
+  for (double s : noise_um)
+    if (!(s > 0)) return {StatusCode::kInvalidArgument, "validation: noise levels must be > 0"};
+  if (trials < 1) return {StatusCode::kInvalidArgument, "validation: trials must be >= 1"};
+  return {};
+}
+
+Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                        const ValidationOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  ValidationSummary out;
+  out.families = options.families.empty() ? AllFamilies() : options.families;
+  auto plan = testpieces::MakeProbingPlan(piece);
+  if (!plan.ok()) return plan.status();
+  const auto n = static_cast<Eigen::Index>(plan->points.size());
+
+  // The base design at zero errors on the nominal plan: what the diagnosis's base absorbs.
+  const std::vector<std::string> base_names = DefaultParameterSet(piece, machine);
+  kinematics::ErrorState zero(machine);
+  kinematics::ErrorState base_state(machine);
+  auto base_active = kinematics::ActivateParameters(machine, &base_state, base_names);
+  if (!base_active.ok()) return base_active.status();
+  std::vector<kinematics::Observation> nominal_obs;
+  for (const auto& pp : plan->points) nominal_obs.push_back({pp.cut, pp.point_part_mm, 0});
+  auto lin = kinematics::LineariseObservations(machine, base_state, *base_active, nominal_obs);
+  if (!lin.ok()) return lin.status();
+  Eigen::MatrixXd X0(n, base_active->size() + 6);
+  X0 << lin->J_dev_params, lin->J_dev_alignment;
+  for (Eigen::Index j = 0; j < X0.cols(); ++j)
+    if (X0.col(j).norm() > 0) X0.col(j).normalize();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(X0, Eigen::ComputeThinU);
+  int rank = 0;
+  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k)
+    if (svd.singularValues()(k) > 1e-7 * svd.singularValues()(0)) ++rank;
+  const Eigen::MatrixXd U0 = svd.matrixU().leftCols(rank);
+
+  std::mt19937_64 rng(options.seed);
+  std::vector<double> explained, times;
+  std::map<std::string, int> correct, correct_alias, counted;
+  std::map<std::string, std::map<double, std::pair<int, int>>> by_mag;
+  int none_trials = 0, none_alarms = 0;
+  for (const auto& family : out.families) {
+    for (double magnitude : options.magnitudes) {
+      for (double noise : options.noise_um) {
+        for (int t = 0; t < options.trials; ++t) {
+          ValidationTrial trial;
+          trial.true_family = family;
+          trial.magnitude = magnitude;
+          trial.noise_um = noise;
+          auto w = MakeWithheld(family, machine, *plan, piece.duration_s(), rng);
+          if (!w.ok()) return w.status();
+          trial.true_detail = w->detail;
+          // Unit signature (effect alone, exact simulation, no noise).
+          Eigen::VectorXd sig = Eigen::VectorXd::Zero(n);
+          if (family != "none") {
+            if (w->terms || !w->process.empty()) {
+              testpieces::PieceSimOptions so;
+              so.process = w->process;
+              auto sim = testpieces::SimulatePiece(piece, machine, w->terms ? *w->terms : zero, so);
+              if (!sim.ok()) return sim.status().WithContext("validation signature of " + family);
+              for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
+            }
+            sig.array() += w->probe_um;
+          }
+          const Eigen::VectorXd visible = sig - U0 * (U0.transpose() * sig);
+          const double raw_peak = sig.cwiseAbs().maxCoeff(), vis_peak = visible.cwiseAbs().maxCoeff();
+          trial.visible_fraction = sig.norm() > 0 ? visible.norm() / sig.norm() : 0.0;
+          trial.observable = family == "none" || trial.visible_fraction > 1e-3;
+          double k = 0.0;
+          if (family != "none") {
+            const double peak = trial.observable ? vis_peak : raw_peak;
+            if (!(peak > 0)) trial.observable = false;
+            k = peak > 0 ? magnitude * noise / peak : 0.0;
+            w->Scale(k);
+          }
+          trial.effect_rms_um = k * std::sqrt(visible.squaredNorm() / static_cast<double>(n));
+          // The piece as measured: random base errors + the scaled effect, noise, placement.
+          kinematics::ErrorState truth = base_state;
+          for (int c : base_active->coefficients) {
+            const double per = truth.coefficient_info(c).display_per_internal;
+            truth.set_coefficient(c, Uniform(rng, -options.base_error, options.base_error) / per);
+          }
+          if (w->terms)
+            for (const auto& term : w->terms->terms()) TPCAL_RETURN_IF_ERROR(truth.AddTerm(machine, term));
+          testpieces::PieceSimOptions so;
+          so.noise_um = noise;
+          so.seed = rng();
+          so.random_placement = options.random_placement;
+          so.probe_radius_error_um = w->probe_um;
+          so.process = w->process;
+          auto sim = testpieces::SimulatePiece(piece, machine, truth, so);
+          if (!sim.ok()) return sim.status().WithContext("validation piece of " + family);
+          const auto t0 = std::chrono::steady_clock::now();
+          auto d = Diagnose(piece, machine, sim->points);
+          trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          if (!d.ok()) return d.status().WithContext("validation diagnosis of " + family);
+          trial.verdict = d->verdict.family;
+          trial.indistinguishable_from = d->verdict.indistinguishable_from;
+          if (trial.verdict != "none" && trial.effect_rms_um > 0 && !d->candidates.empty()) {
+            const auto& best = d->candidates.front();
+            trial.cv_explained = (best.cv_rms_before_um * best.cv_rms_before_um - best.cv_rms_after_um * best.cv_rms_after_um) /
+                                 (trial.effect_rms_um * trial.effect_rms_um);
+          }
+          times.push_back(trial.seconds);
+          if (family == "none") {
+            ++none_trials;
+            if (trial.verdict != "none") ++none_alarms;
+            ++out.confusion[family][trial.verdict];
+          } else if (!trial.observable) {
+            ++out.unobservable_trials[family];
+          } else {
+            auto& bm = by_mag[family][magnitude];
+            ++bm.second;
+            const bool hit = trial.verdict == family;
+            if (hit) ++bm.first;
+            if (magnitude >= 5.0) {
+              ++out.confusion[family][trial.verdict];
+              ++counted[family];
+              if (hit) ++correct[family];
+              const auto& ind = trial.indistinguishable_from;
+              if (hit || (trial.verdict != "none" && std::find(ind.begin(), ind.end(), family) != ind.end()))
+                ++correct_alias[family];
+              explained.push_back(hit ? trial.cv_explained : 0.0);
+            }
+          }
+          out.trials.push_back(std::move(trial));
+        }
+      }
+    }
+  }
+  for (const auto& [f, c] : counted) {
+    out.top1_rate[f] = c ? static_cast<double>(correct[f]) / c : 0.0;
+    out.top1_or_alias_rate[f] = c ? static_cast<double>(correct_alias[f]) / c : 0.0;
+  }
+  for (const auto& [f, mags] : by_mag)
+    for (const auto& [m, hc] : mags) out.top1_by_magnitude[f][m] = hc.second ? static_cast<double>(hc.first) / hc.second : 0.0;
+  out.false_alarm_rate = none_trials ? static_cast<double>(none_alarms) / none_trials : 0.0;
+  out.median_cv_explained = Median(explained);
+  out.median_diagnosis_s = Median(times);
+  return out;
+}
+
+std::string ValidationMarkdown(const ValidationSummary& s) {
+  std::vector<std::string> cols = AllFamilies();
+  std::string o = "| true \\ verdict |";
+  auto abbrev = [](const std::string& f) { return f; };
+  for (const auto& c : cols) o += " " + abbrev(c) + " |";
+  o += " top-1 | top-1 or alias | unobservable trials |\n|---|";
+  for (std::size_t k = 0; k < cols.size() + 3; ++k) o += "---|";
+  o += "\n";
+  for (const auto& f : s.families) {
+    o += "| " + f + " |";
+    const auto it = s.confusion.find(f);
+    for (const auto& c : cols) {
+      int v = 0;
+      if (it != s.confusion.end())
+        if (auto jt = it->second.find(c); jt != it->second.end()) v = jt->second;
+      o += " " + std::to_string(v) + " |";
+    }
+    if (f == "none") {
+      o += fmt::format(" false alarms {:.1f} % | | |\n", 100.0 * s.false_alarm_rate);
+      continue;
+    }
+    const auto t1 = s.top1_rate.find(f);
+    const auto ta = s.top1_or_alias_rate.find(f);
+    const auto un = s.unobservable_trials.find(f);
+    o += fmt::format(" {} | {} | {} |\n", t1 != s.top1_rate.end() ? fmt::format("{:.0f} %", 100 * t1->second) : "-",
+                     ta != s.top1_or_alias_rate.end() ? fmt::format("{:.0f} %", 100 * ta->second) : "-",
+                     un != s.unobservable_trials.end() ? un->second : 0);
+  }
+  o += "\nTop-1 rate by magnitude (peak visible signature / noise sigma), observable trials:\n\n| family |";
+  std::vector<double> mags;
+  for (const auto& [f, m] : s.top1_by_magnitude)
+    for (const auto& [mag, r] : m)
+      if (std::find(mags.begin(), mags.end(), mag) == mags.end()) mags.push_back(mag);
+  std::sort(mags.begin(), mags.end());
+  for (double m : mags) o += fmt::format(" {:g}x |", m);
+  o += "\n|---|";
+  for (std::size_t k = 0; k < mags.size(); ++k) o += "---|";
+  o += "\n";
+  for (const auto& [f, m] : s.top1_by_magnitude) {
+    o += "| " + f + " |";
+    for (double mag : mags) {
+      auto it = m.find(mag);
+      o += it != m.end() ? fmt::format(" {:.0f} % |", 100 * it->second) : " - |";
+    }
+    o += "\n";
+  }
+  o += fmt::format("\nfalse alarms on effect-free pieces: {:.1f} %; median cross-validated share of the withheld effect "
+                   "explained (magnitude >= 5x, observable; a wrong verdict counts 0): {:.0f} %; median diagnosis time {:.3f} s; "
+                   "{} trials\n",
+                   100 * s.false_alarm_rate, 100 * s.median_cv_explained, s.median_diagnosis_s, s.trials.size());
+  return o;
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,80 @@
+// Validation of the diagnosis on data whose effect is withheld (issue 6): test pieces simulated
+// with one unmodelled effect switched on that the diagnosis is not told about, produced by the
+// simulator's physics, not by the candidate formulas of diagnosis_candidates.h:
+//   thermal_drift        exponential (random tau, 0.15 to 1.5 x the program duration) or linear
+//                        drift of one workpiece-branch translation (E_X0A ... E_Z0C), ErrorState term;
+//   linear_straightness  a 5-node cubic (Catmull-Rom) table over the axis range used by the piece,
+//                        random values with the linear trend removed, on one of E_YX ... E_YZ;
+//   linear_positioning   scale (+ quadratic, half the trials) of one of E_XX, E_YY, E_ZZ;
+//   rotary_error_motion  one or two random harmonics (orders 2 to 5) of one of E_XC, E_YC, E_ZC,
+//                        E_AC, E_BC;
+//   rotary_positioning   random harmonics 1 to 3 of E_CC;
+//   tool_deflection      testpieces/process_effects.h cutting-force model, random compliances
+//                        and force ratios;
+//   servo_reversal       process_effects.h quadrant glitches (random heights, decay 2 to 8 deg),
+//                        lost motion in half the trials;
+//   probe_radius         the virtual CMM's probe-radius error (random sign);
+//   none                 no effect.
+// Every trial draws random base errors (the base parameter set, +-20 um / urad), a random
+// placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
+// signature left after the base model and the re-alignment absorb what they can (the part of the
+// gap the diagnosis can see) peaks at `magnitude` x the noise sigma; an effect the base absorbs
+// entirely is run at that peak of its raw signature and counted as unobservable.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "kinematics/machine_model.h"
+#include "testpieces/test_piece.h"
+
+namespace tpcal::pipeline {
+
+struct ValidationOptions {
+  std::vector<std::string> families;             // empty: every family above and "none"
+  std::vector<double> magnitudes = {1, 2, 5, 10, 20};  // peak visible signature / noise sigma
+  std::vector<double> noise_um = {0.5, 1.0, 2.0};
+  int trials = 2;                                // per family, magnitude and noise level
+  std::uint64_t seed = 1;
+  double base_error = 20.0;                      // um / urad, uniform +- of each base parameter
+  bool random_placement = true;
+  Status Validate() const;
+};
+
+struct ValidationTrial {
+  std::string true_family;
+  std::string true_detail;     // what was switched on
+  double magnitude = 0.0, noise_um = 0.0;
+  bool observable = true;      // false: the base model absorbs the effect entirely
+  double visible_fraction = 0.0;  // |signature left after the base| / |signature|
+  std::string verdict;
+  std::vector<std::string> indistinguishable_from;
+  double effect_rms_um = 0.0;     // RMS of the visible signature
+  double cv_explained = 0.0;      // (cv_before^2 - cv_after^2) / effect_rms^2 of the verdict (0 for none)
+  double seconds = 0.0;           // diagnosis time
+};
+
+struct ValidationSummary {
+  std::vector<ValidationTrial> trials;
+  std::vector<std::string> families;                              // rows
+  std::map<std::string, std::map<std::string, int>> confusion;    // true family -> verdict -> count (magnitude >= 5, observable)
+  std::map<std::string, double> top1_rate;             // magnitude >= 5 and observable
+  std::map<std::string, double> top1_or_alias_rate;    // true family is the verdict or indistinguishable from it
+  std::map<std::string, int> unobservable_trials;
+  std::map<std::string, std::map<double, double>> top1_by_magnitude;  // family -> magnitude -> rate (observable)
+  double false_alarm_rate = 0.0;                       // verdict != none on effect-free pieces
+  double median_cv_explained = 0.0;                    // magnitude >= 5, observable, effect present
+  double median_diagnosis_s = 0.0;
+};
+
+Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                        const ValidationOptions& options);
+
+// The confusion matrix and rates as a Markdown table (for the README).
+std::string ValidationMarkdown(const ValidationSummary& summary);
+
+}  // namespace tpcal::pipeline
