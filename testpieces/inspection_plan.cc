@@ -55,6 +55,25 @@ gdt::InspectionPlan TurningPlan(const TestPiece& piece) {
   frame.z_sense.feature = "S4";
   plan.datum_frame = frame;
 
+  // Nominals for the machine-error equations (seed 002 eqs. 10-27, SEED002_EQUATIONS.md):
+  // heights from the A axis, radii from the C axis.
+  auto nominal = [&](const std::string& name, double value) { plan.nominals.push_back({name, value, 0}); };
+  nominal("z_R_mm", p.groove_bottom_z_mm);
+  nominal("z_SR_cut_mm", p.groove_bottom_z_mm + p.groove_wall_lift_mm);
+  nominal("r_SR_mm", p.groove_outer_radius_mm);
+  nominal("z_h_mm", p.hole_probe_z_mm());
+  for (int i = 0; i < 6; ++i) {
+    const std::string k = std::to_string(i + 1);
+    const TurnedStep& s = p.steps[i];
+    nominal("z" + k + "_mm", s.probe_z_mm);
+    nominal("z_B" + k + "_mm", s.shoulder_z_mm);
+    nominal("r" + k + "_mm", s.radius_mm);
+    nominal("rho_B" + k + "_mm", s.radius_mm + p.bottom_probe_fraction * (p.BottomOuterRadius(i) - s.radius_mm));
+  }
+  nominal("hole_pitch_radius_mm", p.hole_pitch_radius_mm);
+  nominal("hole_count", p.hole_count);
+  nominal("hole_pitch_deg", 360.0 / p.hole_count);
+
   plan.features.push_back(PlaneUp("B_R"));
   plan.features.push_back(Feature("S_R", FeatureKind::kCircle, Projection::kDatumXY));
   if (p.groove_inner_wall_pass) plan.features.push_back(Feature("S_RI", FeatureKind::kCircle, Projection::kDatumXY));
