@@ -1,0 +1,43 @@
+// The test-piece options `tpcal plan` and `tpcal simulate` share: --testpiece NAME, --config
+// TP.yaml, --machine M.yaml, --density, --levels, turned into a built piece (defined in
+// plan_command.cc). CLI layer only.
+#pragma once
+
+#include <string>
+
+#include "core/status.h"
+#include "kinematics/machine_model.h"
+#include "testpieces/test_piece.h"
+
+namespace CLI {
+class App;
+}
+
+namespace tpcal::cli {
+
+struct PieceArgs {
+  // turning | iso10791_m1 (= iso10791_m1_320) | iso10791_m1_160 | iso10791_m2 | cone_frustum
+  std::string testpiece;
+  std::string config;   // optional tpcal.testpiece/1 YAML (its `piece:` must agree with testpiece)
+  std::string machine;  // tpcal.machine/1 YAML; optional for plan (default: the piece's usual machine)
+  std::string density;  // "" or paper (as configured), dense, or N points per circle
+  int levels = 0;       // 0: as configured; else probing.levels_per_face
+};
+
+struct BuiltPiece {
+  kinematics::MachineModel machine;
+  testpieces::TestPiece piece;  // piece.config.probing is the effective density
+};
+
+// Adds --testpiece, --config, --machine, --density, --levels to `sub`.
+void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required);
+
+// Builds the piece. Without --machine: nominal ac_table for turning and cone_frustum, xyz for M1
+// and M2. Errors (file:line where a file is at fault): unknown NAME, a config for another piece,
+// bad density, config / machine file errors, a machine the piece cannot be cut on.
+Result<BuiltPiece> BuildPiece(const PieceArgs& args);
+
+// Writes the effective test-piece configuration (every key) to `path` atomically; no-op if empty.
+Status WriteEffectiveConfig(const std::string& path, const BuiltPiece& built);
+
+}  // namespace tpcal::cli
