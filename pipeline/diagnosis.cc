@@ -103,13 +103,56 @@ struct ProjectedCandidate {
   Eigen::VectorXd fitted; // in the residual space
 };
 
-// The candidate columns C with the span of Q (orthonormal) removed, as a basis whose rank counts
-// directions that keep more than `tol` of their original norm.
-Basis ProjectedBasis(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, double tol) {
+// A candidate's columns C (n x p) seen through the complement of the span of Q (orthonormal,
+// the base design). span(C) is orthonormalised first (relative rank tolerance 1e-10 on unit-norm
+// columns); its directions whose principal angle to span(Q) has a sine below `tol` are absorbed.
+// The kept directions give the basis U (n x k) of the fit on the residual; a fit z = U^T r maps
+// back to C's coefficients x = B z (p x k, C's own units), cov(x) = sigma^2 B B^T.
+struct Projected {
+  Eigen::MatrixXd U, B;
+  std::vector<bool> identifiable;
+  int rank = 0;
+};
+
+Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, double tol) {
+  Projected out;
+  const Eigen::Index n = C.rows(), p = C.cols();
+  out.identifiable.assign(static_cast<std::size_t>(p), false);
+  out.U.resize(n, 0);
+  out.B.resize(p, 0);
+  if (p == 0) return out;
   const Eigen::VectorXd norms = ColumnNorms(C);
-  Eigen::MatrixXd Cp = C;
-  if (Q.cols() > 0) Cp -= Q * (Q.transpose() * C);
-  return MakeBasis(Cp, norms, tol, /*relative_to_largest=*/false);
+  const Basis bc = MakeBasis(C, norms, 1e-10, /*relative_to_largest=*/true);
+  if (bc.rank == 0) return out;
+  Eigen::MatrixXd P = bc.U;
+  if (Q.cols() > 0) P -= Q * (Q.transpose() * bc.U);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& s = svd.singularValues();
+  int k = 0;
+  while (k < s.size() && s(k) > tol) ++k;
+  out.rank = k;
+  if (k == 0) return out;
+  out.U = svd.matrixU().leftCols(k);
+  // x_scaled = V_c S_c^-1 (V_p S_p^-1) z; x = x_scaled / norms.
+  Eigen::MatrixXd Vc = bc.V.leftCols(bc.rank);
+  for (int j = 0; j < bc.rank; ++j) Vc.col(j) /= bc.sigma(j);
+  Eigen::MatrixXd Vp = svd.matrixV().leftCols(k);
+  for (int j = 0; j < k; ++j) Vp.col(j) /= s(j);
+  out.B = Vc * Vp;
+  for (Eigen::Index j = 0; j < p; ++j) out.B.row(j) /= (norms(j) > 0 ? norms(j) : 1.0);
+  // Identifiable coefficients: e_j in the row space of the determined functionals F = V_p^T S_c V_c^T.
+  Eigen::MatrixXd Ft = bc.V.leftCols(bc.rank) * bc.sigma.head(bc.rank).asDiagonal() * svd.matrixV().leftCols(k);
+  Eigen::JacobiSVD<Eigen::MatrixXd> fsvd(Ft, Eigen::ComputeThinU);
+  int fr = 0;
+  for (Eigen::Index j = 0; j < fsvd.singularValues().size(); ++j)
+    if (fsvd.singularValues()(j) > 1e-9 * fsvd.singularValues()(0)) ++fr;
+  const Eigen::MatrixXd Qf = fsvd.matrixU().leftCols(fr);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(p);
+    e(j) = 1.0;
+    out.identifiable[static_cast<std::size_t>(j)] = norms(j) > 0 && (e - Qf * (Qf.transpose() * e)).norm() < 1e-6;
+  }
+  return out;
 }
 
 void GroupStats(const std::map<std::string, std::vector<Eigen::Index>>& groups, const Eigen::VectorXd& r,
@@ -235,14 +278,14 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode);
   if (!catalogue.ok()) return catalogue.status();
   const double ln_n = std::log(static_cast<double>(n));
-  std::vector<Basis> bases;
+  std::vector<Projected> bases;
   std::vector<CandidateResult> results;
   for (const auto& cc : catalogue->candidates) {
     CandidateResult cr;
     cr.family = cc.family;
     cr.name = cc.name;
     cr.n_columns = static_cast<int>(cc.J_dev_effect.cols());
-    Basis b = ProjectedBasis(cc.J_dev_effect, base.U, options.absorbed_tolerance);
+    Projected b = ProjectCandidate(cc.J_dev_effect, base.U, options.absorbed_tolerance);
     cr.rank = b.rank;
     cr.observable = b.rank > 0;
     cr.cv_rms_before_um = cv_before;
@@ -261,12 +304,13 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
       cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / ssr0) + b.rank * ln_n;
     }
     // Parameters of the effect (joint fit = fit of the residual on the projected columns).
-    Eigen::VectorXd coef, u;
-    std::vector<bool> ident;
-    Solve(b, r0, dof1 > 0 ? ssr1 / dof1 : 0.0, &coef, &u, &ident);
+    const double s2 = dof1 > 0 ? ssr1 / dof1 : 0.0;
+    const Eigen::VectorXd coef = b.rank > 0 ? Eigen::VectorXd(b.B * (b.U.transpose() * r0))
+                                            : Eigen::VectorXd(Eigen::VectorXd::Zero(cc.J_dev_effect.cols()));
     for (Eigen::Index j = 0; j < coef.size(); ++j) {
+      const double u = b.rank > 0 ? std::sqrt(s2 * b.B.row(j).squaredNorm()) : 0.0;
       cr.parameters.push_back({cc.parameter_names[static_cast<std::size_t>(j)], cc.units[static_cast<std::size_t>(j)],
-                               coef(j), u(j), ident[static_cast<std::size_t>(j)]});
+                               coef(j), u, b.identifiable[static_cast<std::size_t>(j)]});
     }
     const Eigen::VectorXd effect = cc.J_dev_effect * coef;
     cr.effect_um.assign(effect.data(), effect.data() + effect.size());
@@ -305,7 +349,7 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
     Eigen::MatrixXd Q(n, base.U.cols() + bases[k].U.cols());
     Q << base.U, bases[k].U;
     const Eigen::VectorXd rk = r0 - bases[k].U * (bases[k].U.transpose() * r0);
-    Basis bj = ProjectedBasis(catalogue->candidates[j].J_dev_effect, Q, options.absorbed_tolerance);
+    Projected bj = ProjectCandidate(catalogue->candidates[j].J_dev_effect, Q, options.absorbed_tolerance);
     if (bj.rank == 0) return 1.0;
     const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
     const double dof = static_cast<double>(n - Q.cols() - bj.rank);

@@ -14,8 +14,9 @@
 // machine-error families as extra ErrorState coefficients (their columns through the kinematic
 // chain), process families as columns from the cut model. Each candidate is fitted jointly with
 // the base and the alignment (Frisch-Waugh: on the residual, with its columns projected on the
-// complement of the base design). Its directions that the base or the alignment absorb
-// (singular values of the projected, unit-norm columns below `absorbed_tolerance`) are dropped:
+// complement of the base design). Its directions that the base or the alignment absorb (span of
+// the candidate orthonormalised, principal angles to the base design with a sine below
+// `absorbed_tolerance`) are dropped:
 // a candidate with no direction left is reported as unobservable on this piece and plan.
 //
 // Scores per candidate: in-sample RMS after and shrink; cross-validated RMS before and after =
@@ -51,7 +52,7 @@ struct DiagnosisOptions {
   std::optional<kinematics::ErrorState> reference;
   std::string reference_name = "reference";     // for base_model in the report
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
-  double absorbed_tolerance = 1e-3;   // singular value of unit-norm projected columns below which a direction is absorbed
+  double absorbed_tolerance = 1e-3;   // sine of the principal angle to the base design below which a direction is absorbed
   double noise_um = 0.0;              // known CMM noise sigma (um); 0 = estimated from the residual
   int max_harmonic = 8;               // C harmonics reported per circular profile
   double stand_out_z = 4.0;           // z-score above which a group stands out beyond noise

@@ -60,19 +60,24 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
     specs.push_back(lin);
     specs.push_back(ex);
   } else {
-    not_applicable->push_back({"thermal_drift", "no rotary axis to carry a drift of the table position on this machine"});
+    MachineSpec sq{"thermal_drift", "linear drift of the squareness of X, Y, Z with machining time", {}};
+    for (const char* p : {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"})
+      sq.items.push_back(std::string("{thermal_drift: {parameter: ") + p + ", rate_urad_per_h: 0}}");
+    specs.push_back(sq);
   }
   // linear_straightness
   {
     MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
-    MachineSpec c{"linear_straightness", "quadratic and cubic straightness of X, Y, Z", {}};
+    MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
     const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
     for (const char* s : syms) {
       const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
       const std::string i3 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [3]}}";
+      const std::string i4 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [4]}}";
       q.items.push_back(i2);
       c.items.push_back(i2);
       c.items.push_back(i3);
+      c.items.push_back(i4);
     }
     specs.push_back(q);
     specs.push_back(c);

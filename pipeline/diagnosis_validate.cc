@@ -34,6 +34,7 @@ double RandomSign(std::mt19937_64& rng) { return Pick(rng, 2) ? 1.0 : -1.0; }
 // effects, or a probe-radius error; Scale() multiplies it.
 struct Withheld {
   std::string detail;
+  bool not_applicable = false;  // the machine cannot have this effect (no rotary axis)
   std::optional<kinematics::ErrorState> terms;
   testpieces::ProcessEffects process;
   double probe_um = 0.0;
@@ -61,14 +62,22 @@ Result<Withheld> MakeWithheld(const std::string& family, const kinematics::Machi
     w.detail = item;
     return {};
   };
+  const bool rotary = machine.HasAxis(kinematics::Axis::kC);
+  if (!rotary && (family == "rotary_error_motion" || family == "rotary_positioning")) {
+    w.not_applicable = true;
+    w.detail = "the machine has no rotary axis";
+    return w;
+  }
   if (family == "thermal_drift") {
     const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C"};
-    const std::string p = params[Pick(rng, 6)];
+    const char* squareness[] = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
+    const std::string p = rotary ? params[Pick(rng, 6)] : squareness[Pick(rng, 3)];
+    const std::string unit = rotary ? "um" : "urad";
     if (Pick(rng, 10) < 7) {
       const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
-      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, K_um: {}, tau_s: {}}}}}", p, RandomSign(rng), tau)));
+      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, K_{}: {}, tau_s: {}}}}}", p, unit, RandomSign(rng), tau)));
     } else {
-      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, rate_um_per_h: {}}}}}", p, RandomSign(rng))));
+      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, rate_{}_per_h: {}}}}}", p, unit, RandomSign(rng))));
     }
   } else if (family == "linear_straightness") {
     const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
@@ -214,6 +223,13 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           auto w = MakeWithheld(family, machine, *plan, piece.duration_s(), rng);
           if (!w.ok()) return w.status();
           trial.true_detail = w->detail;
+          if (w->not_applicable) {
+            trial.observable = false;
+            trial.verdict = "not applicable";
+            ++out.unobservable_trials[family];
+            out.trials.push_back(std::move(trial));
+            continue;
+          }
           // Unit signature (effect alone, exact simulation, no noise).
           Eigen::VectorXd sig = Eigen::VectorXd::Zero(n);
           if (family != "none") {
@@ -257,10 +273,14 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           const auto t0 = std::chrono::steady_clock::now();
           auto d = Diagnose(piece, machine, sim->points);
           trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          if (!d.ok()) return d.status().WithContext("validation diagnosis of " + family);
-          trial.verdict = d->verdict.family;
-          trial.indistinguishable_from = d->verdict.indistinguishable_from;
-          if (trial.verdict != "none" && trial.effect_rms_um > 0 && !d->candidates.empty()) {
+          if (!d.ok()) {  // counted as a failure of the diagnosis (column "error"), message kept
+            trial.verdict = "error";
+            trial.true_detail += " | " + d.status().ToString();
+          } else {
+            trial.verdict = d->verdict.family;
+            trial.indistinguishable_from = d->verdict.indistinguishable_from;
+          }
+          if (d.ok() && trial.verdict != "none" && trial.effect_rms_um > 0 && !d->candidates.empty()) {
             const auto& best = d->candidates.front();
             trial.cv_explained = (best.cv_rms_before_um * best.cv_rms_before_um - best.cv_rms_after_um * best.cv_rms_after_um) /
                                  (trial.effect_rms_um * trial.effect_rms_um);
@@ -306,6 +326,7 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
 
 std::string ValidationMarkdown(const ValidationSummary& s) {
   std::vector<std::string> cols = AllFamilies();
+  cols.push_back("error");
   std::string o = "| true \\ verdict |";
   auto abbrev = [](const std::string& f) { return f; };
   for (const auto& c : cols) o += " " + abbrev(c) + " |";
@@ -350,6 +371,14 @@ std::string ValidationMarkdown(const ValidationSummary& s) {
     }
     o += "\n";
   }
+  std::string misses;
+  for (const auto& t : s.trials) {
+    if (t.magnitude < 5.0 || !t.observable || t.verdict == t.true_family) continue;
+    misses += fmt::format("- {} at {:g}x, noise {:g} um ({}): verdict {}{}\n", t.true_family, t.magnitude, t.noise_um,
+                          t.true_detail, t.verdict,
+                          t.indistinguishable_from.empty() ? "" : fmt::format(" (indistinguishable from {})", fmt::join(t.indistinguishable_from, ", ")));
+  }
+  if (!misses.empty()) o += "\nMissed trials at magnitude >= 5x:\n\n" + misses;
   o += fmt::format("\nfalse alarms on effect-free pieces: {:.1f} %; median cross-validated share of the withheld effect "
                    "explained (magnitude >= 5x, observable; a wrong verdict counts 0): {:.0f} %; median diagnosis time {:.3f} s; "
                    "{} trials\n",

@@ -1,0 +1,147 @@
+#include "pipeline/diagnosis.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "kinematics/errors_yaml.h"
+#include "pipeline/diagnosis_json.h"
+#include "pipeline/diagnosis_validate.h"
+#include "testpieces/simulate_piece.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+struct Fixture {
+  kinematics::MachineModel machine;
+  testpieces::TestPiece piece;
+};
+
+Fixture Make() {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  EXPECT_TRUE(m.ok());
+  auto piece = testpieces::MakeTestPiece(testpieces::PieceConfig{}, *m);
+  EXPECT_TRUE(piece.ok()) << piece.status().message();
+  return {*m, *piece};
+}
+
+// Seed 002 Table 2 (machining column) as the base errors of the simulated machine.
+kinematics::ErrorState Table2(const kinematics::MachineModel& m, const std::string& effects = "") {
+  auto e = kinematics::ParseErrorState(
+      "dx_CR(0)_um: 12.4\ndy_CR(0)_um: -16.8\nalpha_CR(0)_urad: -8.7\nbeta_CR(0)_urad: -7.0\n"
+      "dy_AR(-90)_um: 36.5\ndz_AR(-90)_um: 28.6\ndy_CA(-90)_um: -25.4\nalpha_CR(-90)_urad: 36.7\n"
+      "gamma_CR(-90)_urad: 1.6\nbeta_ZX_urad: 3.5\nalpha_ZY_urad: 19.2\n" + effects,
+      "<test>", m);
+  EXPECT_TRUE(e.ok()) << e.status().message();
+  return *e;
+}
+
+Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::ErrorState& e, double noise_um,
+                                            std::uint64_t seed) {
+  testpieces::PieceSimOptions o;
+  o.noise_um = noise_um;
+  o.seed = seed;
+  o.random_placement = true;
+  return testpieces::SimulatePiece(f.piece, f.machine, e, o);
+}
+
+// Location errors only (what the base model holds) + noise: the gap is noise, verdict none.
+TEST(Diagnosis, EffectFreePieceGivesNone) {
+  const Fixture f = Make();
+  constexpr double kNoise_um = 1.0;
+  auto sim = Simulate(f, Table2(f.machine), kNoise_um, 11);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto d = Diagnose(f.piece, f.machine, sim->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->verdict.family, "none");
+  // Residual RMS of n points after q fitted directions: sigma sqrt((n - q) / n), within sampling
+  // scatter (relative sd ~ 1 / sqrt(2 n) ~ 4 % for ~350 points; 20 % allows for > 4 sd).
+  const double expected = kNoise_um * std::sqrt(1.0 - static_cast<double>(d->base_columns) / d->n_points);
+  EXPECT_NEAR(d->rms_um, expected, 0.2 * expected);
+  EXPECT_FALSE(d->candidates.empty());
+  for (const auto& c : d->candidates) EXPECT_FALSE(c.significant) << c.name;
+}
+
+// A thermal drift of the table in Y (exponential, tau 40 min) withheld from the base model:
+// the diagnosis names it, the gap shrinks, and the JSON follows the contract.
+TEST(Diagnosis, WithheldThermalDriftIsNamedAndJsonFollowsTheContract) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_Y0A, K_um: 12, tau_s: 2400}\n");
+  auto sim = Simulate(f, errors, 0.5, 12);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto d = Diagnose(f.piece, f.machine, sim->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->verdict.family, "thermal_drift");
+  EXPECT_GT(d->verdict.shrink_pct, 30.0);
+  EXPECT_GT(d->candidates.front().cv_shrink_pct, 30.0);
+
+  const auto j = nlohmann::json::parse(DiagnosisJson(*d));
+  EXPECT_EQ(j["schema"], "tpcal.diagnosis/1");
+  EXPECT_TRUE(j["base_model"].is_string());
+  for (const char* k : {"rms_um", "max_abs_um", "n_points", "by_feature"}) EXPECT_TRUE(j["gap"].contains(k)) << k;
+  ASSERT_FALSE(j["gap"]["by_feature"].empty());
+  for (const char* k : {"feature", "rms_um", "max_abs_um"}) EXPECT_TRUE(j["gap"]["by_feature"][0].contains(k)) << k;
+  ASSERT_FALSE(j["candidates"].empty());
+  for (const auto& c : j["candidates"]) {
+    for (const char* k : {"family", "name", "rms_after_um", "shrink_pct", "cv_rms_before_um", "cv_rms_after_um", "parameters"})
+      EXPECT_TRUE(c.contains(k)) << k;
+    for (const auto& [name, p] : c["parameters"].items())
+      for (const char* k : {"value", "u", "unit"}) EXPECT_TRUE(p.contains(k)) << name << " " << k;
+  }
+  for (const char* k : {"family", "name", "shrink_pct", "indistinguishable_from"}) EXPECT_TRUE(j["verdict"].contains(k)) << k;
+  // shrink_pct = 100 (1 - rms_after / rms_before), candidates best first.
+  const double rms0 = j["gap"]["rms_um"];
+  for (const auto& c : j["candidates"])
+    EXPECT_NEAR(c["shrink_pct"].get<double>(), 100.0 * (1.0 - c["rms_after_um"].get<double>() / rms0), 1e-9);
+}
+
+// Reference mode: the sim is given machine errors (Table 2 probing column), the real piece was
+// cut with the machining column; the gap is a change of location errors and the
+// `location_errors` candidate explains it entirely (noise-free data).
+TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
+  const Fixture f = Make();
+  auto probing = kinematics::ParseErrorState(
+      "dx_CR(0)_um: 8.8\ndy_CR(0)_um: -13.3\nalpha_CR(0)_urad: -16.1\nbeta_CR(0)_urad: -9.0\n"
+      "dy_AR(-90)_um: 29.8\ndz_AR(-90)_um: 25.7\ndy_CA(-90)_um: -14.1\nalpha_CR(-90)_urad: 21.9\n"
+      "gamma_CR(-90)_urad: 6.3\nbeta_ZX_urad: 1.4\nalpha_ZY_urad: 17.4\n",
+      "<test>", f.machine);
+  ASSERT_TRUE(probing.ok()) << probing.status().message();
+  auto sim = Simulate(f, Table2(f.machine), 0.0, 13);
+  ASSERT_TRUE(sim.ok());
+  DiagnosisOptions o;
+  o.reference = *probing;
+  o.noise_um = 0.5;
+  auto d = Diagnose(f.piece, f.machine, sim->points, o);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_GT(d->rms_um, 1.0);
+  const auto it = std::find_if(d->candidates.begin(), d->candidates.end(),
+                               [](const CandidateResult& c) { return c.family == "location_errors"; });
+  ASSERT_NE(it, d->candidates.end());
+  EXPECT_GT(it->shrink_pct, 99.0);
+}
+
+// The validation harness on a small fixed-seed run: the targets where observable.
+TEST(Diagnosis, SmallValidationMeetsTargets) {
+  const Fixture f = Make();
+  ValidationOptions v;
+  v.magnitudes = {5.0, 10.0};
+  v.noise_um = {1.0};
+  v.trials = 2;
+  v.seed = 2026;
+  auto s = RunValidation(f.piece, f.machine, v);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  int correct = 0, counted = 0;
+  for (const auto& t : s->trials) {
+    if (t.true_family == "none" || !t.observable) continue;
+    ++counted;
+    if (t.verdict == t.true_family) ++correct;
+  }
+  ASSERT_GT(counted, 20);
+  EXPECT_GE(static_cast<double>(correct) / counted, 0.9) << ValidationMarkdown(*s);
+  EXPECT_LE(s->false_alarm_rate, 0.05);
+  EXPECT_GE(s->median_cv_explained, 0.7);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
