@@ -182,6 +182,12 @@ TEST_F(SimulateCli, UnknownErrorKeyExits2NamingFileLineAndKey) {
   r = Run("simulate --testpiece turning --machine " + kMachine + " --errors unit.yaml -o pts.csv");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("unit.yaml:1:"), std::string::npos) << r.err;
+  // An unknown key inside an effect, on its own line.
+  WriteText(Path("nested.yaml"),
+            "E_X0C_um: 10\neffects:\n  - thermal_drift:\n      parameter: E_X0C\n      K_um: 8\n      tau: 1200\n");
+  r = Run("simulate --testpiece turning --machine " + kMachine + " --errors nested.yaml -o pts.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nested.yaml:6: unknown key 'tau'"), std::string::npos) << r.err;
   // Other bad input: negative noise, missing errors file, an errors file for another machine.
   r = Run("simulate --testpiece turning --machine " + kMachine + " --errors unit.yaml --noise-um -1 -o pts.csv");
   EXPECT_EQ(r.exit_code, 2);
