@@ -202,6 +202,27 @@ TEST_F(SimulateCli, UnknownErrorKeyExits2NamingFileLineAndKey) {
   EXPECT_FALSE(std::filesystem::exists(Path("truth.yaml")));
 }
 
+// Every piece on a machine it can be cut on, with that machine's sample errors: a valid point
+// file with the piece's features, which `tpcal fit` (ad hoc plan) accepts.
+TEST_F(SimulateCli, EveryPieceOnItsMachine) {
+  struct Case { const char* piece; const char* machine; const char* errors; const char* feature; };
+  for (const Case& c : {Case{"iso10791_m1_160", "xyz", "seed004_y_straightness", "BORE"},
+                        Case{"iso10791_m2", "bc_table", "seed001_table1a", "FACE_P1"},
+                        Case{"iso10791_m2", "bhead_ctable", "seed003_bhead_ctable_means", "FACE_P2"},
+                        Case{"cone_frustum", "ac_table", "ac_table_iso_example", "CONE_2"}}) {
+    SCOPED_TRACE(std::string(c.piece) + " on " + c.machine);
+    RunResult r = Run(std::string("simulate --testpiece ") + c.piece + " --machine " +
+                      Source(std::string("samples/machines/") + c.machine + ".yaml") + " --errors " +
+                      Source(std::string("samples/errors/") + c.errors + ".yaml") + " --noise-um 0.2 -o pts.csv");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto file = pipeline::ReadPointFile(Path("pts.csv"));
+    ASSERT_TRUE(file.ok()) << file.status().ToString();
+    EXPECT_GE(file->points.IndicesOf(c.feature).size(), 3u);
+    r = Run("-q fit pts.csv");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+}
+
 TEST_F(SimulateCli, HelpStatesUnits) {
   const RunResult r = Run("simulate --help");
   EXPECT_EQ(r.exit_code, 0);
