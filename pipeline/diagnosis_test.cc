@@ -96,15 +96,16 @@ TEST(Diagnosis, WithheldThermalDriftIsNamedAndJsonFollowsTheContract) {
     EXPECT_NEAR(c["shrink_pct"].get<double>(), 100.0 * (1.0 - c["rms_after_um"].get<double>() / rms0), 1e-9);
 }
 
-// Reference mode: the sim is given machine errors (Table 2 probing column), the real piece was
-// cut with the machining column; the gap is a change of location errors and the
-// `location_errors` candidate explains it entirely (noise-free data).
+// Reference mode (seed 002 section 4.4): the sim is the machine errors of Table 2's probing column,
+// the real piece was cut with the machining column; the gap is a change of location errors and the
+// `location_errors` candidate explains it entirely (noise-free data). Values: seed 002 Table 2
+// (samples/errors/seed002_table2_*.yaml; the probing column has no squareness).
 TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
   const Fixture f = Make();
   auto probing = kinematics::ParseErrorState(
-      "dx_CR(0)_um: 8.8\ndy_CR(0)_um: -13.3\nalpha_CR(0)_urad: -16.1\nbeta_CR(0)_urad: -9.0\n"
-      "dy_AR(-90)_um: 29.8\ndz_AR(-90)_um: 25.7\ndy_CA(-90)_um: -14.1\nalpha_CR(-90)_urad: 21.9\n"
-      "gamma_CR(-90)_urad: 6.3\nbeta_ZX_urad: 1.4\nalpha_ZY_urad: 17.4\n",
+      "dx_CR(0)_um: -5.8\ndy_CR(0)_um: -26.1\nalpha_CR(0)_urad: -0.1\nbeta_CR(0)_urad: 5.2\n"
+      "dy_AR(-90)_um: 46.5\ndz_AR(-90)_um: 18.7\ndy_CA(-90)_um: -31.6\nalpha_CR(-90)_urad: 47.1\n"
+      "gamma_CR(-90)_urad: 2.4\n",
       "<test>", f.machine);
   ASSERT_TRUE(probing.ok()) << probing.status().message();
   auto sim = Simulate(f, Table2(f.machine), 0.0, 13);
@@ -119,6 +120,14 @@ TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
                                [](const CandidateResult& c) { return c.family == "location_errors"; });
   ASSERT_NE(it, d->candidates.end());
   EXPECT_GT(it->shrink_pct, 99.0);
+  EXPECT_EQ(d->verdict.family, "location_errors");
+  // The refitted set is the difference machining - probing (dx_CR(0): 12.4 - (-5.8) = 18.2 um);
+  // exact data: linearisation error only (second order, < 1e-2 um here).
+  for (const auto& p : it->parameters) {
+    if (p.name == "dx_CR(0)") {
+      EXPECT_NEAR(p.value, 18.2, 0.05);
+    }
+  }
 }
 
 // The validation harness on a small fixed-seed run: the targets where observable.

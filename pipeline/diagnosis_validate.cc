@@ -248,7 +248,7 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           trial.observable = family == "none" || trial.visible_fraction > 1e-3;
           double k = 0.0;
           if (family != "none") {
-            const double peak = trial.observable ? vis_peak : raw_peak;
+            const double peak = (trial.observable && !options.scale_raw_peak) ? vis_peak : raw_peak;
             if (!(peak > 0)) trial.observable = false;
             k = peak > 0 ? magnitude * noise / peak : 0.0;
             w->Scale(k);

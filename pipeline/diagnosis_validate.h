@@ -18,8 +18,9 @@
 // Every trial draws random base errors (the base parameter set, +-20 um / urad), a random
 // placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
 // signature left after the base model and the re-alignment absorb what they can (the part of the
-// gap the diagnosis can see) peaks at `magnitude` x the noise sigma; an effect the base absorbs
-// entirely is run at that peak of its raw signature and counted as unobservable.
+// gap the diagnosis can see) peaks at `magnitude` x the noise sigma (or its raw signature, with
+// scale_raw_peak); an effect the base absorbs entirely (visible fraction < 1e-3) is run at that
+// peak of its raw signature and counted as unobservable.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +43,10 @@ struct ValidationOptions {
   std::uint64_t seed = 1;
   double base_error = 20.0;                      // um / urad, uniform +- of each base parameter
   bool random_placement = true;
+  // false (default): scale so the VISIBLE signature (after the base absorbs what it can) peaks at
+  // magnitude x sigma; true: scale the RAW signature's peak instead (the visible part is then
+  // smaller, often much smaller for effects the location errors nearly mimic).
+  bool scale_raw_peak = false;
   Status Validate() const;
 };
 

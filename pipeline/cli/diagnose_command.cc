@@ -41,6 +41,7 @@ struct DiagnoseArgs {
   std::vector<double> noise_levels = {0.5, 1.0, 2.0};
   std::vector<std::string> families;
   std::string markdown;
+  bool raw_peak = false;
 };
 
 struct Setup {
@@ -93,12 +94,14 @@ int RunValidate(const DiagnoseArgs& args, const Setup& setup) {
   v.magnitudes = args.magnitudes;
   v.noise_um = args.noise_levels;
   v.families = args.families;
+  v.scale_raw_peak = args.raw_peak;
   Info(fmt::format("tpcal diagnose --validate: {} piece, seed {}, {} trial(s) per family, magnitude and noise level",
                    setup.piece.name, args.seed, args.trials));
   auto summary = pipeline::RunValidation(setup.piece, setup.machine, v);
   if (!summary.ok()) return ReportError(summary.status());
-  const std::string md = fmt::format("Diagnosis validation: {} piece, seed {}, trials {}, magnitudes {}, noise {} um\n\n",
+  const std::string md = fmt::format("Diagnosis validation: {} piece, seed {}, trials {}, magnitudes {} ({} peak), noise {} um\n\n",
                                      setup.piece.name, args.seed, args.trials, fmt::join(args.magnitudes, ","),
+                                     args.raw_peak ? "raw signature" : "visible signature",
                                      fmt::join(args.noise_levels, ",")) +
                          pipeline::ValidationMarkdown(*summary);
   std::cout << md;
@@ -186,6 +189,8 @@ Command RegisterDiagnose(CLI::App& app) {
   sub->add_option("--noise", args->noise_levels, "validation: CMM noise sigmas (um)")->delimiter(',');
   sub->add_option("--families", args->families, "validation: families to withhold (default all and none)")->delimiter(',');
   sub->add_option("--markdown", args->markdown, "validation: also write the Markdown table here");
+  sub->add_flag("--raw-peak", args->raw_peak,
+                "validation: magnitudes scale the raw signature's peak (default: the part the base model cannot absorb)");
   return {sub, [args] { return RunDiagnose(*args); }};
 }
 
