@@ -17,7 +17,8 @@ class LinuxCncPost : public GStylePost {
   void Begin() override {
     Plain("%");
     for (const std::string& line : HeaderLines(prog_, o_)) Comment(line);
-    Comment("TOOL TABLE: " + o_.program_name + ".tbl [LinuxCNC units: inches]");
+    Comment("TOOL TABLE: " + (o_.tool_table_file.empty() ? o_.program_name + ".tbl" : o_.tool_table_file) +
+            " [LinuxCNC units: inches]");
   }
 
   void Setup(const Instr& in) override {

@@ -40,7 +40,7 @@ Result<PostedProgram> PostProgram(const testpieces::TestPiece& piece, const Gcod
   out.program_text = out.posted.text;
   out.program_file = options.program_name + ProgramExtension(options.dialect);
   if (options.dialect == Dialect::kLinuxCnc) {
-    out.tool_table_file = options.program_name + ".tbl";
+    out.tool_table_file = options.tool_table_file.empty() ? options.program_name + ".tbl" : options.tool_table_file;
     out.tool_table_text = LinuxCncToolTable(out.ir);
   }
   const std::string title = piece.name + " - " + DialectTitle(options.dialect) + " - " + out.program_file;

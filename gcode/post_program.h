@@ -24,7 +24,7 @@ struct PostedProgram {
   Dialect dialect = Dialect::kLinuxCnc;
   std::string program_file;     // "<program_name><ext>", e.g. "TPCAL.ngc"
   std::string program_text;
-  std::string tool_table_file;  // LinuxCNC: "<program_name>.tbl"; other dialects: ""
+  std::string tool_table_file;  // LinuxCNC: options.tool_table_file or "<program_name>.tbl"; others: ""
   std::string tool_table_text;  // LinuxCNC tool table in inches (tool_table.h); "" otherwise
   std::string backplot_svg;
   IrProgram ir;                 // what was posted
