@@ -4,6 +4,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/status.h"
 #include "kinematics/machine_model.h"
@@ -36,6 +38,10 @@ void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required);
 // and M2. Errors (file:line where a file is at fault): unknown NAME, a config for another piece,
 // bad density, config / machine file errors, a machine the piece cannot be cut on.
 Result<BuiltPiece> BuildPiece(const PieceArgs& args);
+
+// Error (kInvalidArgument) if two of the non-empty output paths name the same file: one would
+// silently overwrite the other. `paths` are (option, path) pairs.
+Status CheckDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& paths);
 
 // Writes the effective test-piece configuration (every key) to `path` atomically; no-op if empty.
 Status WriteEffectiveConfig(const std::string& path, const BuiltPiece& built);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <variant>
@@ -137,6 +138,23 @@ void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required) {
                   "probing levels (circles or lines) per face, spread over the probe-able band; default as configured (1)");
 }
 
+Status CheckDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& paths) {
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    for (std::size_t j = i + 1; j < paths.size(); ++j) {
+      if (paths[i].second.empty() || paths[j].second.empty()) continue;
+      // absolute() first: libstdc++'s weakly_canonical leaves a relative path with no existing
+      // prefix unchanged ("x.csv" vs "./x.csv").
+      std::error_code ec_i, ec_j;
+      const auto a = std::filesystem::weakly_canonical(std::filesystem::absolute(paths[i].second), ec_i);
+      const auto b = std::filesystem::weakly_canonical(std::filesystem::absolute(paths[j].second), ec_j);
+      if (paths[i].second == paths[j].second || (!ec_i && !ec_j && a == b))
+        return Status(StatusCode::kInvalidArgument,
+                      paths[i].first + " and " + paths[j].first + " name the same file '" + paths[i].second + "'");
+    }
+  }
+  return Status::Ok();
+}
+
 Status WriteEffectiveConfig(const std::string& path, const BuiltPiece& built) {
   if (path.empty()) return Status::Ok();
   return pipeline::WriteFileAtomic(path, testpieces::FormatPieceConfig(built.piece.config));
@@ -180,6 +198,9 @@ PointSet PlanAsPointSet(const testpieces::ProbingPlan& plan, const kinematics::M
 }
 
 int RunPlan(const PlanArgs& args) {
+  if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--step", args.step}, {"--write-config", args.write_config}});
+      !s.ok())
+    return ReportError(s);
   auto built = BuildPiece(args.piece);
   if (!built.ok()) return ReportError(built.status());
   Info(fmt::format("tpcal plan: {} on {}, {} operations, {:.1f} min of machining", built->piece.name,

@@ -126,6 +126,7 @@ std::string TruthYaml(const SimulateArgs& args, const BuiltPiece& built, const k
 
 int RunSimulate(const SimulateArgs& args) {
   // Everything is read and checked before anything is written.
+  if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
   if (!(args.noise_um >= 0) || !std::isfinite(args.noise_um))
     return ReportError(Status(StatusCode::kInvalidArgument, "--noise-um must be a finite number >= 0 (um)"));
   if (!std::isfinite(args.probe_radius_error_um))

@@ -154,6 +154,10 @@ TEST_F(PlanCli, BadInputExits2WithFileLineAndWritesNothing) {
   r = Run("plan --testpiece turning --machine " + Source("samples/machines/xyz.yaml") + " -o out.csv");
   EXPECT_EQ(r.exit_code, 2);
 
+  r = Run("plan --testpiece turning -o out.csv --step ./out.csv");  // one output over the other
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("-o and --step name the same file"), std::string::npos) << r.err;
+
   r = Run("plan -o out.csv");  // --testpiece missing: usage error
   EXPECT_EQ(r.exit_code, 2);
 
