@@ -28,6 +28,15 @@ struct Seg {
   bool clockwise = false;
 };
 
+// Top-view marks of what a tool-point path cannot show there: a reamed hole (circle of the tool
+// radius about the hole axis) and a turned face (the circle the nose centre sweeps while the
+// table spins, about the part Z axis = the C axis).
+struct Mark {
+  int op = 0;
+  Eigen::Vector2d center_mm = Eigen::Vector2d::Zero();  // part XY
+  double radius_mm = 0.0;
+};
+
 Eigen::Vector3d Tip(const IrProgram& prog, const AxisState& s) {
   return kinematics::NominalToolPointInPart(prog.machine, s, Eigen::Vector3d::Zero());
 }
@@ -73,9 +82,28 @@ void Line(const IrProgram& prog, const AxisState& a, const AxisState& b, bool ra
   out->push_back(std::move(s));
 }
 
-std::vector<Seg> Segments(const IrProgram& prog, double seg_deg) {
+std::vector<Seg> Segments(const IrProgram& prog, double seg_deg, std::vector<Mark>* marks) {
   std::vector<Seg> segs;
+  double tool_radius_mm = 0.0;
+  bool spinning = false;
   for (const Instr& in : prog.instrs) {
+    if (in.kind == InstrKind::kToolChange && in.tool_index >= 0 &&
+        in.tool_index < static_cast<int>(prog.tools.size())) {
+      tool_radius_mm = prog.tools[in.tool_index].tool.radius_mm();
+    }
+    if (in.kind == InstrKind::kTableSpinStart) spinning = true;
+    if (in.kind == InstrKind::kTableSpinStop) spinning = false;
+    if (in.kind == InstrKind::kLinear && in.cutting && (spinning || in.feed_mode == FeedMode::kPerRevolution)) {
+      const Eigen::Vector3d q = Tip(prog, in.end);
+      marks->push_back({in.op, Eigen::Vector2d::Zero(), std::hypot(q.x(), q.y())});
+    }
+    if (in.kind == InstrKind::kDrillCycle && tool_radius_mm > 0) {
+      AxisState bottom = in.start;
+      bottom.x_mm = in.drill.x_mm;
+      bottom.y_mm = in.drill.y_mm;
+      bottom.z_mm = in.drill.bottom_z_mm;
+      marks->push_back({in.op, Tip(prog, bottom).head<2>(), tool_radius_mm});
+    }
     switch (in.kind) {
       case InstrKind::kRapid:
       case InstrKind::kIndex:
@@ -152,7 +180,8 @@ double NiceLength(double target) {
 }  // namespace
 
 std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const std::string& title, BackplotStats* stats) {
-  const std::vector<Seg> segs = Segments(prog, o.arc_segment_deg);
+  std::vector<Mark> marks;
+  const std::vector<Seg> segs = Segments(prog, o.arc_segment_deg, &marks);
   BackplotStats st;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
@@ -164,6 +193,10 @@ std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const s
     for (std::size_t k = 1; k < s.pts.size(); ++k) {
       (s.rapid ? st.rapid_length_mm : st.feed_length_mm) += (s.pts[k] - s.pts[k - 1]).norm();
     }
+  }
+  for (const Mark& m : marks) {  // top view: part X and Y only
+    lo.head<2>() = lo.head<2>().cwiseMin(m.center_mm - Eigen::Vector2d::Constant(m.radius_mm));
+    hi.head<2>() = hi.head<2>().cwiseMax(m.center_mm + Eigen::Vector2d::Constant(m.radius_mm));
   }
   if (segs.empty()) lo = hi = Eigen::Vector3d::Zero();
   const double margin = 40.0, title_h = 40.0;
@@ -223,8 +256,9 @@ std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const s
           const double x = s.center.x() + std::cos(a) * r0.x() - std::sin(a) * r0.y();
           const double y = s.center.y() + std::sin(a) * r0.x() + std::cos(a) * r0.y();
           const double r = s.radius * v.scale;
-          // Screen Y points down: a counter-clockwise arc (part frame) has sweep flag 1.
-          d << " A" << F2(r) << " " << F2(r) << " 0 0 " << (s.clockwise ? 0 : 1) << " " << F2(v.X(x)) << " " << F2(v.Y(y));
+          // Screen Y points down, so the part frame's counter-clockwise (+angle) is the screen's
+          // negative-angle direction: sweep flag 0; clockwise: 1.
+          d << " A" << F2(r) << " " << F2(r) << " 0 0 " << (s.clockwise ? 1 : 0) << " " << F2(v.X(x)) << " " << F2(v.Y(y));
         }
         ++st.svg_arcs;
       } else {
@@ -235,6 +269,14 @@ std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const s
       svg << "<path d=\"" << d.str() << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\""
           << (s.rapid ? "0.8" : "1.2") << "\"" << (s.rapid ? " stroke-dasharray=\"4 3\"" : "") << "/>\n";
       if (i == 0) ++st.polylines;
+    }
+    if (i == 0) {
+      for (const Mark& m : marks) {
+        svg << "<circle cx=\"" << F2(v.X(m.center_mm.x())) << "\" cy=\"" << F2(v.Y(m.center_mm.y())) << "\" r=\""
+            << F2(m.radius_mm * v.scale) << "\" fill=\"none\" stroke=\"" << kPalette[(std::max(m.op, 1) - 1) % 10]
+            << "\" stroke-width=\"0.8\"/>\n";
+        ++st.marks;
+      }
     }
     // Scale bar: a round length near a fifth of the panel.
     const double len_mm = NiceLength((v.umax - v.umin) / 5.0);

@@ -4,7 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <regex>
+#include <vector>
+
+#include "kinematics/forward_kinematics.h"
 
 #include "gcode/internal/test_support.h"
 
@@ -35,6 +40,11 @@ TEST(Backplot, EveryProgramIsDrawn) {
       EXPECT_NE(svg.find("stroke-dasharray"), std::string::npos);  // rapids dashed
       EXPECT_GT(p->backplot.feed_length_mm, 0);
       EXPECT_GT(p->backplot.rapid_length_mm, 0);
+      if (pc.id == "turning") {
+        // 16 holes and a circle per turning feed (S1..S6, B1..B6; LinuxCNC splits constant
+        // cutting speed into segments, one circle each).
+        EXPECT_GE(p->backplot.marks, 16 + 12);
+      }
       if (pc.id == "turning" || pc.id.rfind("m1", 0) == 0) {
         EXPECT_GT(p->backplot.svg_arcs, 0) << "circular interpolation drawn as SVG arcs";
         EXPECT_NE(svg.find(" A"), std::string::npos);
@@ -45,6 +55,53 @@ TEST(Backplot, EveryProgramIsDrawn) {
       testing::WriteFile(testing::OutputDir() / (pc.id + "_" + DialectName(d) + ".svg"), svg);
     }
   }
+}
+
+// SVG's y axis points down, so the arc sense flips on screen. Geometric check of every drawn
+// arc of the M1 program (climb-cut corners G2, circle boss, bore G3): the centre that an SVG
+// renderer derives from the endpoints, radius and flags (SVG 1.1 F.6.5) is the IR arc centre,
+// drawn with the same scale and offset as the arc's start point.
+TEST(Backplot, DrawnArcsTurnAboutTheirOwnCentres) {
+  auto piece = testing::MakePiece({"m1_160", "xyz"});
+  ASSERT_TRUE(piece.ok());
+  auto p = PostProgram(*piece, testing::GoldenOptions(Dialect::kLinuxCnc, "m1_160"));
+  ASSERT_TRUE(p.ok());
+  const std::string& svg = p->backplot_svg;
+  const std::regex arc_re(R"(d="M([-0-9.]+) ([-0-9.]+) A([0-9.]+) [0-9.]+ 0 0 ([01]) ([-0-9.]+) ([-0-9.]+))");
+  std::vector<std::smatch> arcs;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), arc_re); it != std::sregex_iterator(); ++it) {
+    arcs.push_back(*it);
+  }
+  std::vector<const Instr*> ir_arcs;
+  for (const Instr& in : p->ir.instrs) {
+    if (in.kind == InstrKind::kArc) ir_arcs.push_back(&in);
+  }
+  ASSERT_EQ(arcs.size(), ir_arcs.size());
+  constexpr double kPx = 0.05;  // coordinates are written with 2 decimals
+  int cw = 0, ccw = 0;
+  for (std::size_t k = 0; k < arcs.size(); ++k) {
+    const Instr& in = *ir_arcs[k];
+    const double x0 = std::stod(arcs[k][1]), y0 = std::stod(arcs[k][2]), r = std::stod(arcs[k][3]);
+    const int sweep = std::stoi(arcs[k][4]);
+    const double x1 = std::stod(arcs[k][5]), y1 = std::stod(arcs[k][6]);
+    // Centre per SVG 1.1 F.6.5 (rx = ry = r, no rotation, large-arc 0).
+    const double hx = 0.5 * (x0 - x1), hy = 0.5 * (y0 - y1);
+    const double h2 = hx * hx + hy * hy;
+    const double coef = (sweep == 1 ? 1.0 : -1.0) * std::sqrt(std::max(0.0, (r * r - h2) / h2));
+    const double cx = coef * hy + 0.5 * (x0 + x1), cy = -coef * hx + 0.5 * (y0 + y1);
+    // The IR centre and start in the part frame, drawn: X = x0 + s (cx - sx), Y = y0 - s (cy - sy).
+    kinematics::AxisState c = in.start;
+    c.x_mm = in.arc_center_xy_mm.x();
+    c.y_mm = in.arc_center_xy_mm.y();
+    const Eigen::Vector3d centre = kinematics::NominalToolPointInPart(p->ir.machine, c, Eigen::Vector3d::Zero());
+    const Eigen::Vector3d start = kinematics::NominalToolPointInPart(p->ir.machine, in.start, Eigen::Vector3d::Zero());
+    const double scale = r / (start - centre).head<2>().norm();
+    EXPECT_NEAR(cx, x0 + scale * (centre.x() - start.x()), kPx) << "arc " << k << (in.clockwise ? " G2" : " G3");
+    EXPECT_NEAR(cy, y0 - scale * (centre.y() - start.y()), kPx) << "arc " << k << (in.clockwise ? " G2" : " G3");
+    (in.clockwise ? cw : ccw)++;
+  }
+  EXPECT_GT(cw, 0);
+  EXPECT_GT(ccw, 0);
 }
 
 TEST(Backplot, ReadmeExamples) {
