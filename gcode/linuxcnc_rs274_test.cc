@@ -9,6 +9,7 @@
 // deviations are printed (they are ~0.1 um).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -16,6 +17,7 @@
 
 #include "core/units.h"
 #include "gcode/internal/test_support.h"
+#include "gcode/options_yaml.h"
 #include "kinematics/forward_kinematics.h"
 
 namespace tpcal::gcode {
@@ -354,6 +356,84 @@ TEST_P(Rs274Proof, ToolPathReproducesTheNominalGeometry) {
 
 INSTANTIATE_TEST_SUITE_P(AllPieces, Rs274Proof, ::testing::ValuesIn(testing::AllPieces()),
                          [](const auto& info) { return info.param.id; });
+
+// The proofs above run the default options; the other LinuxCNC option choices must run clean in
+// rs274 too and give the IR's path: the sample post file, constant rpm instead of segmented
+// constant cutting speed, no block numbers (block_step 0), coarse CSS segments with mist.
+TEST(Rs274Variants, OptionChoicesRunCleanAndGiveTheIrPath) {
+  TPCAL_REQUIRE_RS274(rs274);
+  auto piece = testing::MakePiece({"turning", "ac_table"});
+  ASSERT_TRUE(piece.ok()) << piece.status().ToString();
+  auto sample = LoadGcodeOptions(std::string(TPCAL_SOURCE_DIR) + "/samples/gcode/linuxcnc.yaml");
+  ASSERT_TRUE(sample.ok()) << sample.status().ToString();
+  std::vector<std::pair<std::string, GcodeOptions>> variants;
+  variants.emplace_back("sample", *sample);
+  GcodeOptions base = testing::GoldenOptions(Dialect::kLinuxCnc, "turning");
+  GcodeOptions o = base;
+  o.c_spindle.css = false;
+  variants.emplace_back("constant_rpm", o);
+  o = base;
+  o.block_step = 0;
+  variants.emplace_back("no_block_numbers", o);
+  o = base;
+  o.c_spindle.css_step_mm = 10.0;
+  o.coolant = Coolant::kMist;
+  variants.emplace_back("coarse_css_mist", o);
+  for (auto& [name, opts] : variants) {
+    SCOPED_TRACE(name);
+    opts.safety.check_rapids = false;  // the known turning retract defect (test_support.h)
+    auto posted = PostProgram(*piece, opts);
+    ASSERT_TRUE(posted.ok()) << posted.status().ToString();
+    const auto run = testing::RunRs274(rs274, testing::OutputDir() / name, *posted);
+    ASSERT_EQ(Rs274Errors(run.exit_status, run.out, run.err), "");
+    auto listing = ParseRs274Listing(run.out);
+    ASSERT_TRUE(listing.ok()) << listing.status().ToString();
+    const auto expected = ToPartPoints(ExpectedPath(posted->ir), piece->machine);
+    const auto actual = ToPartPoints(listing->path, piece->machine);
+    auto cmp = ComparePaths(expected, actual, kGeomTol_mm, 1e-4);
+    ASSERT_TRUE(cmp.ok()) << cmp.status().ToString();
+    std::cout << "[rs274 variant " << name << "] " << cmp->points << " points = IR within "
+              << cmp->max_tip_deviation_mm * 1000.0 << " um\n";
+  }
+}
+
+// The listing's arc conventions, checked against the interpreter itself: one G2 arc per plane
+// with known end points and centres. rs274 prints ARC_FEED in the active plane's axis order:
+// XY as (X, Y), XZ as (Z, X), YZ as (Y, Z); ParseRs274Listing must put every end point back
+// on X, Y, Z and keep the centre in plane order.
+TEST(Rs274Listing, ArcPlanesAsTheInterpreterPrintsThem) {
+  TPCAL_REQUIRE_RS274(rs274);
+  const auto dir = testing::TestDir(testing::OutputDir());
+  testing::WriteFile(dir / "arcs.ngc",
+                     "%\nG21 G90 G94 F100\nG0 X0 Y0 Z0\n"
+                     "G17 G2 X10 Y10 I10 J0\n"   // centre (X10, Y0)
+                     "G18 G2 X20 Z10 I10 K0\n"   // centre (X20, Z0)
+                     "G19 G2 Y20 Z20 J10 K0\n"   // centre (Y20, Z10)
+                     "M30\n%\n");
+  testing::WriteFile(dir / "arcs.tbl", "T1 P1 Z1 D0.1\n");
+  const std::string cmd = "cd '" + dir.string() + "' && HOME='" + dir.string() + "' '" + rs274 +
+                          "' -g arcs.ngc -t arcs.tbl > arcs.out 2> arcs.err < /dev/null";
+  const int rc = std::system(cmd.c_str());
+  const std::string out = testing::ReadFile(dir / "arcs.out");
+  ASSERT_EQ(Rs274Errors(WEXITSTATUS(rc), out, testing::ReadFile(dir / "arcs.err")), "");
+  auto listing = ParseRs274Listing(out);
+  ASSERT_TRUE(listing.ok()) << listing.status().ToString();
+  std::vector<PathMove> arcs;
+  for (const PathMove& m : listing->path.moves) {
+    if (m.kind == PathMoveKind::kArc) arcs.push_back(m);
+  }
+  ASSERT_EQ(arcs.size(), 3u);
+  const std::array<std::array<double, 3>, 3> ends = {{{10, 10, 0}, {20, 10, 10}, {20, 20, 20}}};
+  const std::array<std::array<double, 2>, 3> centres = {{{10, 0}, {0, 20}, {20, 10}}};  // plane order
+  const std::array<int, 3> planes = {17, 18, 19};
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE("G" + std::to_string(planes[k]));
+    EXPECT_EQ(arcs[k].plane, planes[k]);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(arcs[k].end[i], ends[k][i], 1e-9) << "axis " << i;
+    EXPECT_NEAR(arcs[k].center1_mm, centres[k][0], 1e-9);
+    EXPECT_NEAR(arcs[k].center2_mm, centres[k][1], 1e-9);
+  }
+}
 
 TEST(Rs274Listing, ReportsInterpreterErrorsEvenWithContinueMode) {
   TPCAL_REQUIRE_RS274(rs274);
