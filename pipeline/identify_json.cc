@@ -1,0 +1,183 @@
+#include "pipeline/identify_json.h"
+
+#include "kinematics/machine_model.h"
+#include "pipeline/json_util.h"
+#include "pipeline/seed002_items.h"
+
+namespace tpcal::pipeline {
+
+Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
+                                                       const kinematics::MachineModel& machine,
+                                                       const PointSet& measured,
+                                                       const IdentifyStageOptions& options) {
+  auto stage = RunIdentifyStage(piece, machine, measured, options);
+  if (!stage.ok()) return stage.status();
+  IdentificationReport r(std::move(*stage));
+  r.testpiece = piece.name;
+  r.machine = kinematics::MachineTypeName(machine.type);
+  if (piece.kind() == testpieces::PieceKind::kTurning) {
+    auto geometry = Seed002GeometryOf(piece);
+    auto items = Seed002ItemsFromInspection(r.stage.inspection);
+    if (geometry.ok() && items.ok()) {
+      r.items = *items;
+      auto cf = kinematics::SolveSeed002(*items, *geometry, kinematics::Seed002Equations::kKinematics);
+      if (cf.ok()) r.closed_form = std::move(*cf);
+    }
+  }
+  auto motions = CAxisErrorMotions(piece, r.stage);
+  if (!motions.ok()) return motions.status();
+  r.error_motion = std::move(*motions);
+  auto straight = LinearAxisStraightness(piece, r.stage);
+  if (!straight.ok()) return straight.status();
+  r.straightness = std::move(*straight);
+  return r;
+}
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json Interval(double lo, double hi) { return Json::array({lo, hi}); }
+
+Json ParameterJson(const kinematics::ParameterEstimate& p) {
+  Json j;
+  j["name"] = p.name;
+  j["iso_symbol"] = p.iso_symbol;
+  j["identifiable"] = p.identifiable;
+  j["unit"] = p.unit;
+  if (p.identifiable) {
+    j["value"] = p.value;
+    j["u"] = p.u;
+    j["ci95"] = Interval(p.ci95_low, p.ci95_high);
+  } else {
+    j["value"] = nullptr;
+    j["u"] = nullptr;
+    j["ci95"] = nullptr;
+  }
+  Json u = Json::object();
+  for (const auto& m : p.uncertainties) {
+    Json e;
+    if (m.available && p.identifiable) {
+      e["u"] = m.u;
+      e["ci95"] = Interval(m.ci95_low, m.ci95_high);
+    } else {
+      e["u"] = nullptr;
+      e["ci95"] = nullptr;
+    }
+    if (!m.message.empty()) e["message"] = m.message;
+    u[kinematics::UncertaintyMethodName(m.method)] = e;
+  }
+  j["uncertainty"] = u;
+  return j;
+}
+
+Json CombinationJson(const kinematics::Combination& c, const std::string& unit) {
+  Json j;
+  j["combination"] = c.text;
+  j["names"] = c.names;
+  j["coefficients"] = c.coefficients;
+  j["value"] = c.value;
+  j["u"] = c.u;
+  j["unit"] = unit;
+  return j;
+}
+
+}  // namespace
+
+std::string IdentificationJson(const IdentificationReport& report) {
+  const auto& id = report.stage.identification;
+  std::map<std::string, std::string> unit_of;
+  for (const auto& p : id.parameters) unit_of[p.name] = p.unit;
+  auto unit_of_combo = [&](const kinematics::Combination& c) {
+    return c.names.empty() ? std::string() : unit_of[c.names.front()];
+  };
+  Json j;
+  j["schema"] = "tpcal.identification/1";
+  j["testpiece"] = report.testpiece;
+  j["machine"] = report.machine;
+  j["points_source"] = report.stage.inspection.points_source;
+  j["n_points"] = id.num_observations;
+  j["n_features"] = id.num_groups;
+  j["solver"] = "point-level least squares through the kinematic chain (Ceres), 6-DOF alignment nuisance";
+  Json params = Json::array();
+  for (const auto& p : id.parameters) params.push_back(ParameterJson(p));
+  j["parameters"] = params;
+
+  const auto& ident = id.identifiability;
+  Json idj;
+  idj["num_parameters"] = ident.num_parameters;
+  idj["rank"] = ident.rank;
+  idj["condition_number"] = ident.condition_number;
+  idj["singular_values"] = ident.singular_values;
+  idj["not_identifiable"] = ident.not_identifiable;
+  Json est = Json::array();
+  for (const auto& c : ident.estimable) est.push_back(CombinationJson(c, unit_of_combo(c)));
+  idj["estimable"] = est;
+  Json nul = Json::array();
+  for (const auto& c : ident.null_directions) nul.push_back(c.text);
+  idj["null_directions"] = nul;
+  j["identifiability"] = idj;
+
+  j["fit"] = {{"rms_before_um", id.rms_before_um}, {"rms_after_um", id.rms_after_um},
+              {"sigma_um", id.sigma_um},           {"iterations", id.iterations},
+              {"termination", id.termination}};
+  j["alignment"] = RigidJson(id.alignment);
+
+  if (report.closed_form) {
+    const auto& cf = *report.closed_form;
+    Json c;
+    c["equations"] = kinematics::Seed002EquationsName(cf.equations);
+    c["rank"] = cf.rank;
+    Json items = Json::object();
+    for (const auto& [k, v] : report.items) items[k] = v;
+    c["items"] = items;
+    Json ps = Json::array();
+    for (const auto& p : cf.parameters) {
+      Json e;
+      e["name"] = p.name;
+      e["unit"] = p.unit;
+      e["identifiable"] = p.identifiable;
+      if (p.identifiable) e["value"] = p.value; else e["value"] = nullptr;
+      ps.push_back(e);
+    }
+    c["parameters"] = ps;
+    c["estimable"] = cf.estimable;
+    Json res = Json::object();
+    for (std::size_t i = 0; i < cf.items_used.size(); ++i) res[cf.items_used[i]] = cf.item_residuals[i];
+    c["item_residuals"] = res;
+    j["closed_form"] = c;
+  }
+  Json em = Json::array();
+  for (const auto& m : report.error_motion) {
+    Json e;
+    e["name"] = m.name;
+    e["faces"] = m.faces;
+    e["a_deg"] = m.a_deg;
+    e["c_deg"] = m.profile.c_deg;
+    e["radial_um"] = m.profile.radial_um;
+    e["tilt_urad"] = m.profile.tilt_urad;
+    e["radial_pv_um"] = m.profile.radial_pv_um;
+    e["tilt_pv_urad"] = m.profile.tilt_pv_urad;
+    em.push_back(e);
+  }
+  j["error_motion"] = em;
+  Json st = Json::array();
+  for (const auto& s : report.straightness) {
+    Json e;
+    e["name"] = s.name;
+    e["feature"] = s.feature;
+    e["moving_axis"] = s.moving_axis;
+    e["direction"] = s.direction;
+    e["position_mm"] = s.position_mm;
+    e["deviation_um"] = s.deviation_um;
+    e["pv_ls_um"] = s.pv_ls_um;
+    e["mz_um"] = s.mz_um;
+    e["mz_certified"] = s.mz_certified;
+    e["slope_urad"] = s.slope_urad;
+    st.push_back(e);
+  }
+  j["straightness"] = st;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace tpcal::pipeline
