@@ -22,8 +22,18 @@ constexpr const char* kCss =
     ".vec2{stroke:#7b3fa0;stroke-width:1.8;fill:none}.prof{stroke:#1f5fa8;stroke-width:1.3;fill:#1f5fa8;fill-opacity:0.08}"
     ".bar{stroke:#1f5fa8;stroke-width:2;fill:none}.pt{stroke:#1f5fa8;fill:#1f5fa8}"
     ".truth{stroke:#c0392b;fill:none;stroke-width:1.5}.lbl{fill:#222}.sm{fill:#555;font-size:9px}"
+    ".rms{fill:#9bb8dd;stroke:none}.bad{fill:#e6a19a;stroke:#c0392b}"
     ".ttl{fill:#000;font-size:13px;font-weight:bold}.na{fill:#999;font-style:italic}.zero{stroke:#444;stroke-width:1}";
 
+
+// "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1)" -> "E_X0C": the ISO 230-1 relation without the
+// commentary, for figure labels (the tables carry the full text).
+std::string ShortIsoSymbol(const std::string& symbol) {
+  std::string s = symbol.substr(0, symbol.find(" ("));
+  s = s.substr(0, s.find(" for "));
+  if (const auto eq = s.find(" = "); eq != std::string::npos) s = s.substr(eq + 3);
+  return s;
+}
 
 const gdt::CharacteristicSpec* FindHolePattern(const gdt::InspectionPlan& plan) {
   for (const auto& c : plan.characteristics)
@@ -167,12 +177,16 @@ void VectorPanel(SvgWriter& svg, double ox, double oy, const std::string& title,
   svg.Text(ox + 132, oy + 4, ax, "sm");
   svg.Text(ox + 4, oy - 132, bx, "sm");
   svg.Text(ox, oy + 146, fmt::format("rings every {:g} {}", step, unit), "sm", "middle");
-  for (const auto& v : items) {
+  double ly = oy - 120;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const auto& v = items[k];
     svg.BeginGroup("vector", fmt::format("{}: ({:.2f}, {:.2f}) {}", v.label, v.a, v.b, unit));
     const double ex = ox + v.a * s, ey = oy - v.b * s;
     svg.Arrow(ox, oy, ex, ey, cls, 7);
-    svg.Text(ex + 4, ey - 4, v.label, "sm");
+    svg.Text(ex + 4, ey - 4, std::to_string(k + 1), "sm");
     svg.EndGroup();
+    svg.Text(ox + 150, ly, fmt::format("{} {}: ({:.2f}, {:.2f})", k + 1, v.label, v.a, v.b), "sm");
+    ly += 13;
   }
 }
 }  // namespace
@@ -190,11 +204,11 @@ std::optional<Figure> VectorsFigure(const gdt::InspectionResult& inspection) {
     }
   }
   if (conc.empty() && par.empty()) return std::nullopt;
-  const double panel = 320;
+  const double panel = 500;
   const int panels = (conc.empty() ? 0 : 1) + (par.empty() ? 0 : 1);
   SvgWriter svg(panel * panels, 380, "Concentricity and parallelism vectors", kCss);
   svg.Text(16, 24, "Concentricity and parallelism vectors (datum frame)", "ttl");
-  double ox = panel / 2;
+  double ox = 160;
   if (!conc.empty()) {
     VectorPanel(svg, ox, 200, "concentricity (dx, dy), um", "dx", "dy", "um", conc, "vec");
     ox += panel;
@@ -214,7 +228,7 @@ std::optional<Figure> MachineErrorsFigure(std::span<const kinematics::ParameterE
   for (const auto& p : parameters)
     if (std::find(units.begin(), units.end(), p.unit) == units.end()) units.push_back(p.unit);
 
-  const double W = 720, label_w = 250, plot_x0 = label_w + 20, plot_w = W - plot_x0 - 30, row_h = 22;
+  const double W = 760, label_w = 290, plot_x0 = label_w + 20, plot_w = W - plot_x0 - 30, row_h = 22;
   const double H = 50 + static_cast<double>(units.size()) * 50 + static_cast<double>(parameters.size()) * row_h + 30;
   SvgWriter svg(W, H, "Identified machine errors", kCss);
   svg.Text(16, 24, "Identified machine errors with 95 % intervals (ISO 230-1 symbols)", "ttl");
@@ -243,7 +257,8 @@ std::optional<Figure> MachineErrorsFigure(std::span<const kinematics::ParameterE
     for (const auto& p : parameters) {
       if (p.unit != unit) continue;
       const double yc = y + row_h / 2;
-      const std::string label = p.iso_symbol.empty() ? p.name : p.iso_symbol + "  (" + p.name + ")";
+      const std::string iso = ShortIsoSymbol(p.iso_symbol);
+      const std::string label = iso.empty() || iso == p.name ? p.name : p.name + "  [" + iso + "]";
       svg.Text(label_w + 10, yc + 4, label, "lbl", "end");
       if (p.identifiable) {
         svg.BeginGroup("param", fmt::format("{} = {:.3f} {} (u = {:.3f}, 95 %: [{:.3f}, {:.3f}])", p.name, p.value,
@@ -269,6 +284,49 @@ std::optional<Figure> MachineErrorsFigure(std::span<const kinematics::ParameterE
   return Figure{"machine_errors",
                 "Identified machine error parameters with their 95 % intervals; non-identifiable parameters get no "
                 "value.",
+                svg.Finish()};
+}
+
+std::optional<Figure> GapFigure(const DiagnosisResult& d) {
+  if (d.by_feature.empty()) return std::nullopt;
+  const double row_h = 16, label_w = 90, plot_w = 520, W = label_w + plot_w + 150;
+  const double H = 70 + row_h * static_cast<double>(d.by_feature.size()) + 40;
+  double extent = d.noise_sigma_um;
+  for (const auto& g : d.by_feature) extent = std::max({extent, g.rms_um, std::abs(g.mean_um)});
+  const double step = NiceStep(std::max(extent, 0.01) * 2.0, 6);
+  const double half = std::ceil(std::max(extent, 0.01) * 1.05 / step) * step;
+  auto X = [&](double v) { return label_w + (v + half) / (2 * half) * plot_w; };
+  SvgWriter svg(W, H, "Sim-to-real gap by feature", kCss);
+  svg.Text(16, 24, "Gap of the identified model by feature (residual, um)", "ttl");
+  const double y0 = 56;
+  svg.Line(X(-half), y0, X(half), y0, "ax");
+  for (double t = -half; t <= half + 1e-9; t += step) {
+    svg.Line(X(t), y0 - 3, X(t), y0 + 3, "ax");
+    svg.Text(X(t), y0 - 6, fmt::format("{:g}", std::abs(t) < 1e-12 ? 0.0 : t), "sm", "middle");
+  }
+  double y = y0 + 8;
+  for (const auto& g : d.by_feature) {
+    const double yc = y + row_h / 2;
+    svg.BeginGroup("gap", fmt::format("{}: rms {:.3f} um, mean {:.3f} um, max {:.3f} um, z {:.1f}, {} points", g.group,
+                                      g.rms_um, g.mean_um, g.max_abs_um, g.z, g.n_points));
+    svg.Text(label_w - 8, yc + 4, g.group, "lbl", "end");
+    svg.Rect(X(0), yc - 5, X(g.rms_um) - X(0), 10, g.stands_out ? "bad" : "rms");
+    svg.Circle(X(g.mean_um), yc, 3, "pt");
+    svg.Text(X(half) + 8, yc + 4, g.stands_out ? fmt::format("z {:.1f} stands out", g.z) : fmt::format("z {:.1f}", g.z),
+             g.stands_out ? "lbl" : "sm");
+    svg.EndGroup();
+    y += row_h;
+  }
+  svg.Line(X(0), y0, X(0), y, "zero");
+  if (d.noise_sigma_um > 0) {
+    svg.Line(X(d.noise_sigma_um), y0, X(d.noise_sigma_um), y, "ref");
+    svg.Text(X(d.noise_sigma_um) + 3, y + 12, fmt::format("noise sigma {:.2f} um", d.noise_sigma_um), "sm");
+  }
+  svg.Text(16, H - 8, "bar: RMS of the residual; dot: mean (signed); red: beyond noise", "sm");
+  return Figure{"gap",
+                fmt::format("Where the identified model misses: residual by feature (gap RMS {:.3f} um over {} points). "
+                            "Verdict: {} ({}).",
+                            d.rms_um, d.n_points, d.verdict.family, d.verdict.name),
                 svg.Finish()};
 }
 

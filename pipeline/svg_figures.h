@@ -5,6 +5,7 @@
 //  - circularity profiles: one polar panel per circularity characteristic, the LS circle as
 //    the reference and dr(theta) magnified (default x10000) at the figure's length scale;
 //  - vectors: concentricity (dx, dy) in um and parallelism (da, db) in urad drawn as arrows;
+//  - gap: the residual of the identified model by feature (diagnosis), against the noise level;
 //  - machine errors: each identified coefficient with its 95 % interval, ISO 230-1 symbol and
 //    unit, non-identifiable ones marked as such (never given a value), and optional truth marks.
 // Every figure function returns nullopt when the inspection has nothing to draw for it (no
@@ -20,6 +21,7 @@
 #include "gdt/inspection.h"
 #include "gdt/plan.h"
 #include "kinematics/identification.h"
+#include "pipeline/diagnosis.h"
 
 namespace tpcal::pipeline {
 
@@ -49,6 +51,10 @@ std::optional<Figure> VectorsFigure(const gdt::InspectionResult& inspection);
 // `truth` (coefficient name -> value in its display unit) adds a truth mark where given.
 std::optional<Figure> MachineErrorsFigure(std::span<const kinematics::ParameterEstimate> parameters,
                                           const std::map<std::string, double>& truth = {});
+
+// The sim-to-real gap by feature (diagnosis.h): RMS and mean of the residual per feature against
+// the noise level, features standing out beyond noise in red, and the verdict in the caption.
+std::optional<Figure> GapFigure(const DiagnosisResult& diagnosis);
 
 // All figures that apply, in report order. `identification` may be null (GD&T only).
 std::vector<Figure> MakeFigures(const gdt::InspectionPlan& plan, const gdt::InspectionResult& inspection,

@@ -41,7 +41,7 @@ TEST(SvgFigures, NothingToDrawGivesNoFigure) {
 TEST(SvgFigures, MachineErrorsMarkNonIdentifiableAndTruth) {
   std::vector<kinematics::ParameterEstimate> p(2);
   p[0].name = "dx_CR(0)";
-  p[0].iso_symbol = "E_X0C";
+  p[0].iso_symbol = "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1)";
   p[0].unit = "um";
   p[0].identifiable = true;
   p[0].value = 12.0;
@@ -54,7 +54,7 @@ TEST(SvgFigures, MachineErrorsMarkNonIdentifiableAndTruth) {
   auto fig = MachineErrorsFigure(p, {{"dx_CR(0)", 12.4}});
   ASSERT_TRUE(fig.has_value());
   EXPECT_EQ(fig->name, "machine_errors");
-  EXPECT_NE(fig->svg.find("E_X0C  (dx_CR(0))"), std::string::npos);
+  EXPECT_NE(fig->svg.find(">dx_CR(0)  [E_X0C]<"), std::string::npos);
   EXPECT_NE(fig->svg.find("not identifiable"), std::string::npos);
   EXPECT_NE(fig->svg.find("class=\"truth\""), std::string::npos);
   EXPECT_NE(fig->svg.find("class=\"bar\""), std::string::npos);

@@ -1,0 +1,216 @@
+#include "pipeline/run_config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "kinematics/machine_yaml.h"
+#include "testpieces/piece_config.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+Status ParseErrorAt(const std::string& source, const YAML::Node& node, const std::string& what) {
+  const auto mark = node.Mark();
+  return Status(StatusCode::kParseError, what, source,
+                mark.line >= 0 ? static_cast<std::size_t>(mark.line) + 1 : 0);
+}
+
+// Path relative to the directory of `source` unless absolute or source is empty.
+std::string Resolve(const std::string& source, const std::string& path) {
+  if (path.empty() || source.empty() || fs::path(path).is_absolute()) return path;
+  return (fs::path(source).parent_path() / path).lexically_normal().string();
+}
+
+template <typename T>
+Result<T> As(const std::string& source, const YAML::Node& node, const std::string& key, const char* expected) {
+  try {
+    return node.as<T>();
+  } catch (const YAML::Exception&) {
+    return ParseErrorAt(source, node, "'" + key + "': expected " + expected);
+  }
+}
+
+}  // namespace
+
+std::optional<kinematics::UncertaintyMethod> ParseUncertaintyMethod(const std::string& name) {
+  using kinematics::UncertaintyMethod;
+  for (auto m : {UncertaintyMethod::kAnalytic, UncertaintyMethod::kJackknifePoints,
+                 UncertaintyMethod::kJackknifeGroups, UncertaintyMethod::kMonteCarlo})
+    if (name == kinematics::UncertaintyMethodName(m)) return m;
+  return std::nullopt;
+}
+
+Status PipelineConfig::Validate() const {
+  if (points.empty()) return Status(StatusCode::kInvalidArgument, "no point file given ('points' / --points)", source);
+  if (testpiece.empty()) return Status(StatusCode::kInvalidArgument, "'testpiece' is empty", source);
+  if (monte_carlo_trials < 0 || monte_carlo_trials > 1000000)
+    return Status(StatusCode::kInvalidArgument, "'monte_carlo_trials' must be in [0, 1e6]", source);
+  if (primary == kinematics::UncertaintyMethod::kMonteCarlo && monte_carlo_trials == 0)
+    return Status(StatusCode::kInvalidArgument, "primary uncertainty monte_carlo needs monte_carlo_trials > 0", source);
+  if (primary == kinematics::UncertaintyMethod::kJackknifeGroups && !jackknife_groups)
+    return Status(StatusCode::kInvalidArgument, "primary uncertainty jackknife_groups needs jackknife_groups: true",
+                  source);
+  if (!(figures.position_magnification > 0) || !(figures.profile_magnification > 0))
+    return Status(StatusCode::kInvalidArgument, "report magnifications must be > 0", source);
+  return Status::Ok();
+}
+
+Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
+  }
+  if (!root.IsMap()) return Status(StatusCode::kParseError, "expected a map of settings (tpcal.pipeline/1)", source, 1);
+  PipelineConfig c;
+  c.source = source;
+  std::set<std::string> seen;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    const YAML::Node& v = kv.second;
+    if (!seen.insert(key).second) return ParseErrorAt(source, kv.first, "duplicate key '" + key + "'");
+    auto str = [&]() { return As<std::string>(source, v, key, "a string"); };
+    if (key == "schema") {
+      auto s = str();
+      if (!s.ok()) return s.status();
+      if (*s != "tpcal.pipeline/1")
+        return ParseErrorAt(source, v, "schema '" + *s + "' is not tpcal.pipeline/1");
+    } else if (key == "testpiece") {
+      auto s = str();
+      if (!s.ok()) return s.status();
+      c.testpiece = (s->ends_with(".yaml") || s->ends_with(".yml")) ? Resolve(source, *s) : *s;
+    } else if (key == "points" || key == "machine" || key == "truth") {
+      auto s = str();
+      if (!s.ok()) return s.status();
+      (key == "points" ? c.points : key == "machine" ? c.machine : c.truth) = Resolve(source, *s);
+    } else if (key == "out") {
+      auto s = str();
+      if (!s.ok()) return s.status();
+      c.out = *s;
+    } else if (key == "parameters") {
+      auto p = As<std::vector<std::string>>(source, v, key, "a list of parameter names");
+      if (!p.ok()) return p.status();
+      c.parameters = *p;
+    } else if (key == "seed") {
+      auto s = As<std::uint64_t>(source, v, key, "a non-negative integer");
+      if (!s.ok()) return s.status();
+      c.seed = *s;
+    } else if (key == "diagnose") {
+      auto b = As<bool>(source, v, key, "true or false");
+      if (!b.ok()) return b.status();
+      c.diagnose = *b;
+    } else if (key == "uncertainty") {
+      if (!v.IsMap()) return ParseErrorAt(source, v, "'uncertainty': expected a map");
+      for (const auto& u : v) {
+        const std::string k = u.first.as<std::string>();
+        if (k == "primary") {
+          auto s = As<std::string>(source, u.second, k, "a method name");
+          if (!s.ok()) return s.status();
+          auto m = ParseUncertaintyMethod(*s);
+          if (!m)
+            return ParseErrorAt(source, u.second,
+                                "'primary': expected analytic, jackknife_points, jackknife_groups or monte_carlo");
+          c.primary = *m;
+        } else if (k == "jackknife_groups") {
+          auto b = As<bool>(source, u.second, k, "true or false");
+          if (!b.ok()) return b.status();
+          c.jackknife_groups = *b;
+        } else if (k == "monte_carlo_trials") {
+          auto n = As<int>(source, u.second, k, "an integer");
+          if (!n.ok()) return n.status();
+          c.monte_carlo_trials = *n;
+        } else {
+          return ParseErrorAt(source, u.first,
+                              "unknown key 'uncertainty." + k +
+                                  "' (expected primary, jackknife_groups, monte_carlo_trials)");
+        }
+      }
+    } else if (key == "report") {
+      if (!v.IsMap()) return ParseErrorAt(source, v, "'report': expected a map");
+      for (const auto& r : v) {
+        const std::string k = r.first.as<std::string>();
+        if (k != "position_magnification" && k != "profile_magnification")
+          return ParseErrorAt(source, r.first,
+                              "unknown key 'report." + k +
+                                  "' (expected position_magnification, profile_magnification)");
+        auto d = As<double>(source, r.second, k, "a number");
+        if (!d.ok()) return d.status();
+        (k == "position_magnification" ? c.figures.position_magnification : c.figures.profile_magnification) = *d;
+      }
+    } else {
+      return ParseErrorAt(source, kv.first,
+                          "unknown key '" + key +
+                              "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
+                              "diagnose, truth, report, out)");
+    }
+  }
+  return c;
+}
+
+Result<PipelineConfig> LoadPipelineConfig(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(StatusCode::kIoError, "cannot open pipeline file", path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ParsePipelineConfig(ss.str(), path);
+}
+
+std::string FormatPipelineConfig(const PipelineConfig& c) {
+  YAML::Emitter e;
+  e << YAML::BeginMap;
+  e << YAML::Key << "schema" << YAML::Value << "tpcal.pipeline/1";
+  e << YAML::Key << "testpiece" << YAML::Value << c.testpiece;
+  e << YAML::Key << "points" << YAML::Value << c.points;
+  e << YAML::Key << "machine" << YAML::Value << c.machine;
+  e << YAML::Key << "parameters" << YAML::Value << YAML::Flow << c.parameters;
+  e << YAML::Key << "seed" << YAML::Value << c.seed;
+  e << YAML::Key << "uncertainty" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "primary" << YAML::Value << kinematics::UncertaintyMethodName(c.primary);
+  e << YAML::Key << "jackknife_groups" << YAML::Value << c.jackknife_groups;
+  e << YAML::Key << "monte_carlo_trials" << YAML::Value << c.monte_carlo_trials;
+  e << YAML::EndMap;
+  e << YAML::Key << "diagnose" << YAML::Value << c.diagnose;
+  e << YAML::Key << "truth" << YAML::Value << c.truth;
+  e << YAML::Key << "report" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "position_magnification" << YAML::Value << c.figures.position_magnification;
+  e << YAML::Key << "profile_magnification" << YAML::Value << c.figures.profile_magnification;
+  e << YAML::EndMap;
+  e << YAML::Key << "out" << YAML::Value << c.out;
+  e << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
+}
+
+Result<RunPiece> LoadRunPiece(const std::string& testpiece, const std::string& machine_path) {
+  Result<testpieces::PieceConfig> config = Status(StatusCode::kInternal, "unset");
+  if (testpiece.ends_with(".yaml") || testpiece.ends_with(".yml")) {
+    config = testpieces::LoadPieceConfig(testpiece);
+  } else {
+    config = testpieces::ParsePieceConfig("piece: " + testpiece + "\n", "--testpiece");
+    if (!config.ok())
+      return Status(StatusCode::kInvalidArgument,
+                    "unknown test piece '" + testpiece +
+                        "' (expected turning, iso10791_m1, iso10791_m2, cone_frustum or a tpcal.testpiece/1 file)");
+  }
+  if (!config.ok()) return config.status();
+  Result<kinematics::MachineModel> machine = Status(StatusCode::kInternal, "unset");
+  if (!machine_path.empty()) {
+    machine = kinematics::LoadMachineModel(machine_path);
+  } else {
+    const auto kind = testpieces::KindOf(config->params);
+    const bool needs_ac = kind == testpieces::PieceKind::kTurning || kind == testpieces::PieceKind::kConeFrustum;
+    machine = kinematics::MakeMachine(needs_ac ? kinematics::MachineType::kAcTable : kinematics::MachineType::kXyz);
+  }
+  if (!machine.ok()) return machine.status();
+  auto piece = testpieces::MakeTestPiece(*config, *machine);
+  if (!piece.ok()) return piece.status();
+  return RunPiece{std::move(*piece), std::move(*machine)};
+}
+
+}  // namespace tpcal::pipeline

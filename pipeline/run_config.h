@@ -1,0 +1,72 @@
+// Configuration of `tpcal run` (schema tpcal.pipeline/1), from a PIPELINE.yaml or from flags.
+// Relative paths inside a YAML file are taken relative to the file's directory, except `out`,
+// which (like every command-line path) is relative to the current directory.
+//
+//   schema: tpcal.pipeline/1                # optional; if present must be this
+//   testpiece: turning                      # piece kind (its defaults) or a tpcal.testpiece/1 file
+//   points: ../turning/cmm_points.csv       # measured points (tpcal points v1 CSV, PLY, PCD, xyz)
+//   machine: ../machines/ac_table.yaml      # optional: tpcal.machine/1; default the nominal machine
+//                                           #   of the piece kind (ac_table for turning / cone)
+//   parameters: [dx_CR(0), ...]             # optional: coefficients to identify (default: the
+//                                           #   piece's standard set, pipeline/identify_stage.h)
+//   seed: 1                                 # Monte Carlo seed, written to every output
+//   uncertainty: {primary: jackknife_points, jackknife_groups: true, monte_carlo_trials: 2000}
+//   diagnose: true                          # gap diagnosis (pipeline/diagnosis.h) against the identified model
+//   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
+//   report: {position_magnification: 1000, profile_magnification: 10000}
+//   out: tpcal-out/turning                  # optional output directory (the CLI's --out wins)
+// Unknown keys are errors naming the key and its line.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "kinematics/identification.h"
+#include "kinematics/machine_model.h"
+#include "pipeline/svg_figures.h"
+#include "testpieces/test_piece.h"
+
+namespace tpcal::pipeline {
+
+struct PipelineConfig {
+  std::string source;       // the YAML file ("" when built from flags)
+  std::string testpiece = "turning";
+  std::string points;
+  std::string machine;      // "" = nominal machine of the piece kind
+  std::vector<std::string> parameters;
+  std::uint64_t seed = 1;
+  kinematics::UncertaintyMethod primary = kinematics::UncertaintyMethod::kJackknifePoints;
+  bool jackknife_groups = true;
+  int monte_carlo_trials = 2000;
+  bool diagnose = true;
+  std::string truth;        // "" = none
+  FigureOptions figures;
+  std::string out;
+
+  Status Validate() const;
+};
+
+// Reads a pipeline YAML. Errors: kIoError (unreadable), kParseError (syntax, unknown keys,
+// wrong types: file and line). Values are checked by Validate() (RunPipeline calls it), after
+// the command line has overridden what it overrides; a batch file need not name `points`.
+Result<PipelineConfig> LoadPipelineConfig(const std::string& path);
+Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source);
+// The effective configuration as YAML (every key, defaults included) for outputs.
+std::string FormatPipelineConfig(const PipelineConfig& config);
+
+std::optional<kinematics::UncertaintyMethod> ParseUncertaintyMethod(const std::string& name);
+
+// The test piece and the machine it is evaluated on.
+struct RunPiece {
+  testpieces::TestPiece piece;
+  kinematics::MachineModel machine;
+};
+// `testpiece`: a kind name ("turning", "iso10791_m1", "iso10791_m2", "cone_frustum") or a
+// tpcal.testpiece/1 file; `machine_path`: tpcal.machine/1 file or "" for the kind's nominal
+// machine (ac_table for turning and cone_frustum, xyz otherwise).
+Result<RunPiece> LoadRunPiece(const std::string& testpiece, const std::string& machine_path);
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,35 @@
+// result.json of `tpcal run` (schema "tpcal.run/1"): every number of the run with the effective
+// configuration, tpcal version, git revision and seed. Deterministic: the same RunResult gives
+// the same bytes (no time stamps, no timings, no absolute paths beyond those configured).
+//
+// {
+//   "schema": "tpcal.run/1", "tpcal": {"version", "git_revision"}, "seed": 1,
+//   "config": {... the effective tpcal.pipeline/1 settings ...},
+//   "input": {"points", "format", "digest_xxh64", "num_points", "source_units"},
+//   "piece": "...", "machine": "...",
+//   "inspection": {... tpcal.fit/1 (fit_json.h) ...},
+//   "identification": {
+//     "parameters": [{"name", "iso_symbol", "unit", "identifiable", "value" (null if not
+//        identifiable), "u", "ci95": [lo, hi], "primary_method",
+//        "uncertainties": {"analytic": {"available", "u", "ci95", "message"}, ...},
+//        "truth" (only with a stated truth)}],
+//     "identifiability": {"num_parameters", "rank", "condition_number", "singular_values",
+//        "not_identifiable", "estimable": [{"text", "names", "coefficients", "value", "u"}],
+//        "null_directions": [...]},
+//     "num_observations", "num_groups", "rms_before_um", "rms_after_um", "sigma_um",
+//     "iterations", "termination", "alignment": {"rotation", "translation_mm"}},
+//   "figures": ["machine_errors", ...],
+//   "diagnosis": {... tpcal.diagnosis/1 (contracts README section 4, diagnosis_json.h) ...}
+//                (or {"error": "..."} when it could not be made; absent with diagnose: false)
+// }
+#pragma once
+
+#include <string>
+
+#include "pipeline/run_stage.h"
+
+namespace tpcal::pipeline {
+
+std::string RunResultJson(const RunResult& result);
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,114 @@
+#include "pipeline/run_output.h"
+
+#include <fcntl.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "pipeline/atomic_file.h"
+#include "pipeline/report_html.h"
+#include "pipeline/run_config.h"
+#include "pipeline/run_json.h"
+#include "pipeline/run_tables.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+Status Errno(const std::string& call, const std::string& path) {
+  return Status(StatusCode::kIoError, call + ": " + std::strerror(errno), path);
+}
+
+Status FsyncDir(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return Errno("open", dir.string());
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) return Errno("fsync", dir.string());
+  return Status::Ok();
+}
+
+std::string RandomHex() {
+  std::random_device rd;
+  return fmt::format("{:08x}", rd());
+}
+
+}  // namespace
+
+std::vector<RunFile> RenderRunFiles(const RunResult& r) {
+  std::vector<RunFile> files;
+  files.push_back({"report.html", RenderReportHtml(r)});
+  files.push_back({"result.json", RunResultJson(r)});
+  files.push_back({"config.yaml", FormatPipelineConfig(r.config)});
+  files.push_back({"identification.csv", IdentificationCsv(r)});
+  files.push_back({"identifiability.csv", IdentifiabilityCsv(r)});
+  files.push_back({"characteristics.csv", CharacteristicsCsv(r.stage.inspection)});
+  files.push_back({"features.csv", FeaturesCsv(r.stage.inspection)});
+  for (const auto& f : r.figures) files.push_back({"figures/" + f.name + ".svg", f.svg});
+  return files;
+}
+
+Status WriteDirectoryAtomic(const std::string& out_dir, const std::vector<RunFile>& files) {
+  if (out_dir.empty()) return Status(StatusCode::kInvalidArgument, "no output directory given");
+  const fs::path target = fs::path(out_dir).lexically_normal();
+  const fs::path name = target.filename().empty() ? target.parent_path().filename() : target.filename();
+  const fs::path parent = fs::absolute(target).parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec) return Status(StatusCode::kIoError, "cannot create directory: " + ec.message(), parent.string());
+
+  const bool exists = fs::exists(target, ec);
+  if (exists) {
+    if (!fs::is_directory(target, ec))
+      return Status(StatusCode::kInvalidArgument, "output path exists and is not a directory", out_dir);
+    if (!fs::is_empty(target, ec) && !fs::exists(target / "result.json", ec))
+      return Status(StatusCode::kInvalidArgument,
+                    "refusing to replace a directory that is neither empty nor a previous tpcal run (no result.json)",
+                    out_dir);
+  }
+
+  const fs::path temp = parent / fmt::format("{}.tmp.{}.{}", name.string(), ::getpid(), RandomHex());
+  if (!fs::create_directory(temp, ec) || ec)
+    return Status(StatusCode::kIoError, "cannot create directory: " + ec.message(), temp.string());
+  auto cleanup = [&](Status s) {
+    std::error_code ignored;
+    fs::remove_all(temp, ignored);
+    return s;
+  };
+  for (const auto& f : files) {
+    const fs::path p = temp / f.relative_path;
+    fs::create_directories(p.parent_path(), ec);
+    if (ec) return cleanup(Status(StatusCode::kIoError, "cannot create directory: " + ec.message(), p.string()));
+    if (Status s = WriteFileAtomic(p.string(), f.contents); !s.ok()) return cleanup(s);
+  }
+  if (Status s = FsyncDir(temp); !s.ok()) return cleanup(s);
+
+  if (!exists) {
+    if (::rename(temp.c_str(), target.c_str()) != 0) return cleanup(Errno("rename", out_dir));
+  } else {
+    if (::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) != 0) {
+      // File systems without RENAME_EXCHANGE: move the old one aside first (a short window with
+      // no `out`, never a mixed one).
+      const fs::path old = parent / fmt::format("{}.old.{}.{}", name.string(), ::getpid(), RandomHex());
+      if (::rename(target.c_str(), old.c_str()) != 0) return cleanup(Errno("rename", out_dir));
+      if (::rename(temp.c_str(), target.c_str()) != 0) {
+        const Status s = Errno("rename", out_dir);
+        ::rename(old.c_str(), target.c_str());
+        return cleanup(s);
+      }
+      fs::remove_all(old, ec);
+    } else {
+      fs::remove_all(temp, ec);  // now holds the previous run
+    }
+  }
+  return FsyncDir(parent);
+}
+
+}  // namespace tpcal::pipeline

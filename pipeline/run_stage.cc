@@ -1,0 +1,132 @@
+#include "pipeline/run_stage.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "kinematics/error_state.h"
+#include "pipeline/file_bytes.h"
+#include "pipeline/run_sample.h"
+#include "pipeline/xxh64.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+class StageClock {
+ public:
+  StageClock(std::vector<StageTiming>* timings, const ProgressFn& progress) : timings_(timings), progress_(progress) {}
+  void Start(const char* stage) {
+    Stop();
+    stage_ = stage;
+    t0_ = std::chrono::steady_clock::now();
+    if (progress_) progress_(stage);
+  }
+  void Stop() {
+    if (stage_.empty()) return;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    timings_->push_back({stage_, s});
+    stage_.clear();
+  }
+
+ private:
+  std::vector<StageTiming>* timings_;
+  const ProgressFn& progress_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+}  // namespace
+
+Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options) {
+  if (Status s = config.Validate(); !s.ok()) return s;
+  std::vector<StageTiming> timings;
+  StageClock clock(&timings, options.progress);
+
+  clock.Start("setup");
+  auto setup = LoadRunPiece(config.testpiece, config.machine);
+  if (!setup.ok()) return setup.status();
+
+  clock.Start("read");
+  PointReadOptions read;
+  read.threads = options.read_threads;
+  auto file = ReadPointFile(config.points, read);
+  if (!file.ok()) return file.status();
+  auto bytes = ReadFileBytes(config.points);
+  if (!bytes.ok()) return bytes.status();
+  const std::string digest = fmt::format("{:016x}", Xxh64(bytes->view()));
+  bytes->data.reset();
+
+  clock.Start("gdt");
+  auto inspection = gdt::EvaluatePlan(setup->piece.inspection, file->points);
+  if (!inspection.ok()) return inspection.status();
+
+  clock.Start("associate");
+  auto obs = ObservationsFromPoints(setup->piece, file->points, inspection->datum_from_cmm);
+  if (!obs.ok()) return obs.status();
+
+  clock.Start("identify");
+  std::vector<std::string> parameters =
+      config.parameters.empty() ? DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
+  kinematics::ErrorState base(setup->machine);
+  for (const auto& name : parameters) {
+    if (Status s = base.SetParameter(setup->machine, name, 0.0); !s.ok())
+      return s.WithLocation(config.source.empty() ? "--parameters" : config.source);
+  }
+  auto active = kinematics::SelectCoefficients(base, parameters);
+  if (!active.ok()) return active.status();
+  kinematics::IdentifyOptions id_options;
+  id_options.primary = config.primary;
+  id_options.jackknife_groups = config.jackknife_groups;
+  id_options.monte_carlo_trials = config.monte_carlo_trials;
+  id_options.seed = config.seed;
+  auto id = kinematics::Identify(setup->machine, base, *active, obs->observations, id_options);
+  if (!id.ok()) return id.status().WithLocation(config.points);
+
+  std::optional<DiagnosisResult> diagnosis;
+  Status diagnosis_status;
+  if (config.diagnose) {
+    clock.Start("diagnose");
+    DiagnosisOptions d_options;
+    d_options.base_parameters = parameters;
+    auto d = DiagnoseObservations(setup->piece, setup->machine, *obs, d_options);
+    if (d.ok())
+      diagnosis = std::move(*d);
+    else
+      diagnosis_status = d.status();
+  }
+
+  std::map<std::string, double> truth;
+  if (!config.truth.empty()) {
+    std::vector<std::string> names;
+    for (const auto& p : id->parameters) names.push_back(p.name);
+    auto t = LoadTruthValues(config.truth, names);
+    if (!t.ok()) return t.status();
+    truth = std::move(*t);
+  }
+
+  clock.Start("figures");
+  RunResult r{.config = config,
+              .piece_name = setup->piece.name,
+              .machine_name = setup->machine.name,
+              .plan = setup->piece.inspection,
+              .points_info = file->info,
+              .num_points = file->points.size(),
+              .points_digest = digest,
+              .stage = IdentifyStageResult{std::move(*inspection), std::move(*obs), parameters, std::move(*id)},
+              .diagnosis = std::move(diagnosis),
+              .diagnosis_status = diagnosis_status,
+              .truth = std::move(truth),
+              .figures = {},
+              .timings = {}};
+  r.config.parameters = parameters;
+  r.figures = MakeFigures(r.plan, r.stage.inspection, &r.stage.identification, r.truth, config.figures);
+  if (r.diagnosis) {
+    if (auto f = GapFigure(*r.diagnosis)) r.figures.push_back(std::move(*f));
+  }
+  clock.Stop();
+  r.timings = std::move(timings);
+  if (options.progress) options.progress("done");
+  return r;
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,60 @@
+// The whole pipeline of `tpcal run` for one point file: read the points, fit the features and
+// evaluate the piece's GD&T (datum frame from the measured features), associate every point with
+// the cut that made it, identify the machine errors with their uncertainties and identifiability,
+// diagnose the sim-to-real gap (pipeline/diagnosis.h: where, which unmodelled effect, how much
+// the gap shrinks), then build the figures. The same steps as RunIdentifyStage (identify_stage.h), split so each
+// stage is timed and reported as progress. No file is written here (run_output.h writes).
+#pragma once
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/status.h"
+#include "pipeline/diagnosis.h"
+#include "pipeline/identify_stage.h"
+#include "pipeline/point_io.h"
+#include "pipeline/run_config.h"
+#include "pipeline/svg_figures.h"
+
+namespace tpcal::pipeline {
+
+struct StageTiming {
+  std::string stage;  // "setup", "read", "gdt", "associate", "identify", "diagnose", "figures"
+  double seconds = 0.0;
+};
+
+// Called when a stage starts (`stage` as in StageTiming) and once with "done".
+using ProgressFn = std::function<void(std::string_view stage)>;
+
+struct RunResult {
+  PipelineConfig config;         // effective (parameters filled in with the default set)
+  std::string piece_name;
+  std::string machine_name;
+  gdt::InspectionPlan plan;      // the piece's inspection plan
+  PointFileInfo points_info;
+  std::size_t num_points = 0;
+  std::string points_digest;     // XXH64 of the point file's bytes, 16 hex digits
+  IdentifyStageResult stage;     // inspection, observations, parameters, identification
+  // Gap diagnosis with the identified parameter set as the base model (config.diagnose); when it
+  // could not be made (e.g. no residual degrees of freedom) diagnosis_status says why and the
+  // rest of the run stands.
+  std::optional<DiagnosisResult> diagnosis;
+  Status diagnosis_status;
+  std::map<std::string, double> truth;  // stated truth (display units) when config.truth is set
+  std::vector<Figure> figures;
+  std::vector<StageTiming> timings;
+};
+
+struct RunOptions {
+  int read_threads = 0;  // point parser threads (0 = all cores; batch runs use 1)
+  ProgressFn progress;
+};
+
+// Errors: the first failing stage's status (file, line, what was expected).
+Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options = {});
+
+}  // namespace tpcal::pipeline

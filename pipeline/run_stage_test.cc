@@ -1,0 +1,224 @@
+// End to end on the bundled turning sample: the identified errors match the stated truth within
+// their uncertainty, the outputs are complete and deterministic, and the JSON follows its schema.
+#include "pipeline/run_stage.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pipeline/report_html.h"
+#include "pipeline/run_json.h"
+#include "pipeline/run_output.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kPipeline = std::string(TPCAL_SOURCE_DIR) + "/samples/pipelines/turning.yaml";
+
+PipelineConfig SampleConfig(int mc_trials = 500) {
+  auto c = LoadPipelineConfig(kPipeline);
+  EXPECT_TRUE(c.ok()) << c.status().ToString();
+  PipelineConfig config = c.ok() ? *c : PipelineConfig{};
+  config.monte_carlo_trials = mc_trials;
+  return config;
+}
+
+const RunResult& SampleRun() {
+  static const RunResult* run = [] {
+    auto r = RunPipeline(SampleConfig());
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    return r.ok() ? new RunResult(std::move(*r)) : nullptr;
+  }();
+  if (!run) throw std::runtime_error("sample run failed");
+  return *run;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The truth is recovered within kSigmas standard uncertainties (k = 1, primary method). With 16
+// points per face and 0.5 um noise the u are ~0.2-2 um (urad); 4 u leaves a false-alarm rate
+// below 1e-3 over the 11 parameters for an unbiased estimator, and fails on any real bias of the
+// order of the errors themselves (10-40 um).
+constexpr double kSigmas = 4.0;
+
+TEST(RunStage, TurningSampleRecoversTheStatedTruth) {
+  const RunResult& r = SampleRun();
+  const auto& id = r.stage.identification;
+  ASSERT_FALSE(id.parameters.empty());
+  ASSERT_EQ(r.truth.size(), id.parameters.size());
+  int identifiable = 0;
+  for (const auto& p : id.parameters) {
+    if (!p.identifiable) continue;
+    ++identifiable;
+    const double truth = r.truth.at(p.name);
+    ASSERT_TRUE(std::isfinite(p.value) && std::isfinite(p.u)) << p.name;
+    EXPECT_GT(p.u, 0.0) << p.name;
+    EXPECT_LE(std::abs(p.value - truth), kSigmas * p.u)
+        << p.name << ": " << p.value << " +- " << p.u << " " << p.unit << ", truth " << truth;
+  }
+  EXPECT_GE(identifiable, 1);
+  // Every non-identifiable parameter is reported as such, with the combinations named.
+  EXPECT_EQ(static_cast<int>(id.identifiability.not_identifiable.size()),
+            static_cast<int>(id.parameters.size()) - identifiable);
+  if (identifiable < static_cast<int>(id.parameters.size())) {
+    EXPECT_FALSE(id.identifiability.estimable.empty() && id.identifiability.null_directions.empty());
+  }
+  // The residual after identification is the CMM noise (0.5 um) within the sampling spread.
+  EXPECT_LT(id.rms_after_um, 0.7);
+  EXPECT_GT(id.rms_after_um, 0.3);
+}
+
+// The sample's truth holds only errors of the identified set: the diagnosis must find nothing
+// beyond noise (a false alarm here would be a wrong verdict on a clean piece).
+TEST(RunStage, CleanSampleDiagnosisFindsNothingBeyondNoise) {
+  const RunResult& r = SampleRun();
+  ASSERT_TRUE(r.diagnosis.has_value()) << r.diagnosis_status.ToString();
+  EXPECT_EQ(r.diagnosis->verdict.family, "none") << r.diagnosis->verdict.name;
+  EXPECT_NEAR(r.diagnosis->rms_um, r.stage.identification.rms_after_um, 0.05);
+}
+
+TEST(RunStage, StagesAreTimedInOrder) {
+  const RunResult& r = SampleRun();
+  std::vector<std::string> stages;
+  for (const auto& t : r.timings) {
+    stages.push_back(t.stage);
+    EXPECT_GE(t.seconds, 0.0);
+  }
+  EXPECT_EQ(stages, (std::vector<std::string>{"setup", "read", "gdt", "associate", "identify", "diagnose", "figures"}));
+}
+
+TEST(RunStage, JsonFollowsTheSchemaAndIsDeterministic) {
+  const RunResult& r = SampleRun();
+  const std::string json = RunResultJson(r);
+  const auto j = nlohmann::json::parse(json);
+  EXPECT_EQ(j.at("schema"), "tpcal.run/1");
+  EXPECT_TRUE(j.at("tpcal").at("version").is_string());
+  EXPECT_TRUE(j.at("tpcal").at("git_revision").is_string());
+  EXPECT_EQ(j.at("seed"), 1);
+  EXPECT_EQ(j.at("config").at("seed"), 1);
+  EXPECT_EQ(j.at("config").at("uncertainty").at("monte_carlo_trials"), 500);
+  EXPECT_EQ(j.at("input").at("num_points"), r.num_points);
+  EXPECT_EQ(j.at("input").at("digest_xxh64").get<std::string>().size(), 16u);
+  EXPECT_EQ(j.at("inspection").at("schema"), "tpcal.fit/1");
+  EXPECT_EQ(j.at("diagnosis").at("schema"), "tpcal.diagnosis/1");
+  for (const char* key : {"base_model", "gap", "candidates", "verdict"})
+    EXPECT_TRUE(j.at("diagnosis").contains(key)) << key;
+  const auto& params = j.at("identification").at("parameters");
+  ASSERT_EQ(params.size(), r.stage.identification.parameters.size());
+  for (const auto& p : params) {
+    for (const char* key : {"name", "iso_symbol", "unit", "identifiable", "value", "u", "ci95", "uncertainties"})
+      EXPECT_TRUE(p.contains(key)) << key;
+    if (p.at("identifiable").get<bool>()) {
+      EXPECT_TRUE(p.at("value").is_number());
+      EXPECT_EQ(p.at("ci95").size(), 2u);
+      for (const char* m : {"analytic", "jackknife_points", "jackknife_groups", "monte_carlo"})
+        EXPECT_TRUE(p.at("uncertainties").contains(m)) << m;
+    } else {
+      EXPECT_TRUE(p.at("value").is_null());
+    }
+    EXPECT_TRUE(p.at("truth").is_number());
+  }
+  for (const char* key : {"num_parameters", "rank", "condition_number", "singular_values", "not_identifiable",
+                          "estimable", "null_directions"})
+    EXPECT_TRUE(j.at("identification").at("identifiability").contains(key)) << key;
+
+  // Same inputs and seed: the same bytes (a fresh run, not the cached one).
+  auto again = RunPipeline(SampleConfig());
+  ASSERT_TRUE(again.ok()) << again.status().ToString();
+  EXPECT_TRUE(RunResultJson(*again) == json);
+  // A different seed changes only what depends on it (the Monte Carlo figures and the seed fields).
+  PipelineConfig other = SampleConfig();
+  other.seed = 7;
+  auto seeded = RunPipeline(other);
+  ASSERT_TRUE(seeded.ok());
+  EXPECT_FALSE(RunResultJson(*seeded) == json);
+}
+
+TEST(RunStage, ReportHasEverySectionAndFigure) {
+  const RunResult& r = SampleRun();
+  const std::string html = RenderReportHtml(r);
+  for (const char* id : {"id=\"summary\"", "id=\"identification\"", "id=\"identification-table\"",
+                         "id=\"identifiability\"", "id=\"identifiability-table\"", "id=\"gdt\"", "id=\"gdt-table\"",
+                         "id=\"features-table\"", "id=\"config\"", "id=\"fig-machine_errors\"",
+                         "id=\"fig-hole_positions\"", "id=\"fig-circularity\"", "id=\"fig-vectors\"", "id=\"diagnosis\"",
+                         "id=\"verdict\"", "id=\"candidates-table\"", "id=\"fig-gap\""})
+    EXPECT_NE(html.find(id), std::string::npos) << id;
+  EXPECT_EQ(r.figures.size(), 5u);
+  EXPECT_NE(html.find("data-figures=\"5\""), std::string::npos);
+  // Self-contained: nothing fetched from elsewhere.
+  for (const char* ext : {"src=", "href=", "@import", "url("}) EXPECT_EQ(html.find(ext), std::string::npos) << ext;
+  // Every parameter and characteristic is in the tables.
+  for (const auto& p : r.stage.identification.parameters) EXPECT_NE(html.find(p.name), std::string::npos) << p.name;
+  for (const auto& c : r.stage.inspection.characteristics) EXPECT_NE(html.find(c.name), std::string::npos) << c.name;
+}
+
+TEST(RunStage, OutputDirectoryIsCompleteAndReplacedAtomically) {
+  const RunResult& r = SampleRun();
+  const fs::path dir = fs::path(testing::TempDir()) / "tpcal_run_stage_out";
+  fs::remove_all(dir);
+  const auto files = RenderRunFiles(r);
+  ASSERT_TRUE(WriteDirectoryAtomic(dir.string(), files).ok());
+  for (const char* name : {"report.html", "result.json", "config.yaml", "identification.csv", "identifiability.csv",
+                           "characteristics.csv", "features.csv", "figures/machine_errors.svg",
+                           "figures/hole_positions.svg", "figures/circularity.svg", "figures/vectors.svg",
+                           "figures/gap.svg"})
+    EXPECT_TRUE(fs::is_regular_file(dir / name)) << name;
+  EXPECT_EQ(ReadText(dir / "result.json"), RunResultJson(r));
+  // Rewriting replaces the previous run as a whole: a stray file of the old run is gone.
+  { std::ofstream(dir / "stale.txt") << "old"; }
+  ASSERT_TRUE(WriteDirectoryAtomic(dir.string(), files).ok());
+  EXPECT_FALSE(fs::exists(dir / "stale.txt"));
+  // No temporary directory is left beside it.
+  for (const auto& e : fs::directory_iterator(dir.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find("tpcal_run_stage_out.tmp."), std::string::npos);
+  // A directory that is not a previous run is refused and left alone.
+  const fs::path other = fs::path(testing::TempDir()) / "tpcal_run_stage_other";
+  fs::remove_all(other);
+  fs::create_directories(other);
+  { std::ofstream(other / "precious.txt") << "keep"; }
+  const Status refused = WriteDirectoryAtomic(other.string(), files);
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(fs::exists(other / "precious.txt"));
+  EXPECT_FALSE(fs::exists(other / "report.html"));
+}
+
+TEST(RunStage, BadPointFileIsAClearError) {
+  PipelineConfig config = SampleConfig(0);
+  config.points = std::string(TPCAL_SOURCE_DIR) + "/samples/turning/no_such_points.csv";
+  auto r = RunPipeline(config);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), StatusCode::kIoError);
+  EXPECT_NE(r.status().ToString().find("no_such_points.csv"), std::string::npos);
+}
+
+TEST(RunStage, ConfigRejectsUnknownKeysWithTheLine) {
+  auto c = ParsePipelineConfig("schema: tpcal.pipeline/1\npoints: a.csv\nsede: 3\n", "p.yaml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.status().code(), StatusCode::kParseError);
+  EXPECT_EQ(c.status().line(), 3u);
+  EXPECT_NE(c.status().message().find("sede"), std::string::npos);
+  auto ok = ParsePipelineConfig("points: pts/a.csv\nseed: 9\nuncertainty: {monte_carlo_trials: 0}\n", "dir/p.yaml");
+  ASSERT_TRUE(ok.ok()) << ok.status().ToString();
+  EXPECT_EQ(ok->points, "dir/pts/a.csv");  // relative to the YAML file
+  EXPECT_EQ(ok->seed, 9u);
+  EXPECT_TRUE(ok->Validate().ok());
+  // The effective configuration reads back to the same settings.
+  auto back = ParsePipelineConfig(FormatPipelineConfig(*ok), "");
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->points, ok->points);
+  EXPECT_EQ(back->seed, 9u);
+  EXPECT_EQ(back->monte_carlo_trials, 0);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
