@@ -12,9 +12,12 @@ std::string PostedProgram::Summary() const {
   std::ostringstream os;
   os << program_file << ": " << DialectTitle(dialect) << ", " << posted.block_count << " blocks, " << ir.tools.size()
      << " tools, " << ir.operation_names.size() << " operations, time estimate " << FormatNumber(ir.duration_s, 0)
-     << " s; safety: " << safety.rapids_checked << " rapids checked (" << safety.rapid_samples
-     << " samples), smallest rapid clearance " << FormatNumber(safety.min_rapid_clearance_mm, 3) << " mm";
-  if (!safety.min_rapid_block.empty()) os << " at " << safety.min_rapid_block;
+     << " s; safety: " << safety.rapids_checked << " rapids checked";
+  if (safety.rapids_checked > 0) {
+    os << " (" << safety.rapid_samples << " samples), smallest rapid clearance "
+       << FormatNumber(safety.min_rapid_clearance_mm, 3) << " mm";
+    if (!safety.min_rapid_block.empty()) os << " at " << safety.min_rapid_block;
+  }
   os << ", " << safety.tool_fits_checked << " tool fits checked";
   if (!tool_table_file.empty()) os << "; tool table " << tool_table_file << " (inches)";
   return os.str();

@@ -189,16 +189,22 @@ int RunGcode(const GcodeArgs& args) {
   auto posted = gcode::PostProgram(*piece, *options);
   if (!posted.ok()) {
     Status s = posted.status();
+    bool safety_violation = false;
     if (s.file().empty()) {
-      // "NAME.ngc: N1050: rapid move ..." -> "PROGRAM: N1050: rapid move ..."
+      // Safety violations come as "NAME.ngc: N1050: rapid move ..." -> "PROGRAM: N1050: ...";
+      // option errors ("tools: ...") belong to the --post file.
       std::string message = s.message();
       const std::string posted_name = options->program_name + gcode::ProgramExtension(options->dialect) + ": ";
-      if (message.rfind(posted_name, 0) == 0) message.erase(0, posted_name.size());
-      s = Status(s.code(), message, args.output);
+      safety_violation = message.rfind(posted_name, 0) == 0;
+      if (safety_violation) message.erase(0, posted_name.size());
+      const bool post_key = !args.post.empty() && message.rfind("tools:", 0) == 0;
+      s = Status(s.code(), message, post_key ? args.post : args.output);
     }
     ReportError(s);
-    std::cerr << "tpcal gcode: nothing written. The safety checks (strokes, rapids vs stock, tool fit) are "
-                 "described in gcode/DIALECTS.md; --skip-check NAME switches one off at your own risk.\n";
+    if (safety_violation) {
+      std::cerr << "tpcal gcode: nothing written. The safety checks (strokes, rapids vs stock, tool fit) are "
+                   "described in gcode/DIALECTS.md; --skip-check NAME switches one off at your own risk.\n";
+    }
     return kExitBadInput;
   }
 

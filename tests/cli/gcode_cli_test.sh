@@ -85,6 +85,9 @@ bad_input)
     --testpiece iso10791_m2 --post post_h.yaml --dialect fanuc -o p.nc
   printf 'schema: tpcal.gcode/1\ndialect: fanuc\nblock_stepp: 5\n' > post_typo.yaml
   expect_bad '^post_typo\.yaml:3: ' --testpiece iso10791_m2 --post post_typo.yaml --dialect fanuc -o p.nc
+  printf 'schema: tpcal.gcode/1\ndialect: fanuc\ntools:\n  - {piece_tool: 2, number: 7}\n' > post_tools.yaml
+  expect_bad '^post_tools\.yaml: tools: piece tool 2 is not used' \
+    --testpiece iso10791_m2 --post post_tools.yaml --dialect fanuc -o p.nc
   expect_bad '^tpcal gcode: --skip-check: expected strokes, rapids or tool_fit' \
     --testpiece iso10791_m2 --dialect fanuc -o p.nc --skip-check everything
   expect_bad '^tpcal gcode: --date: expected YYYY-MM-DD' --testpiece iso10791_m2 --dialect fanuc -o p.nc --date today
