@@ -1,0 +1,148 @@
+// Batch of 100 point files, 3 of them corrupt: 97 results, 3 clear errors, a summary with one
+// row per file. The files are generated here from one simulated piece (the turning sample's
+// truth) with fresh CMM noise per file, so the test needs no bulky data.
+#include "pipeline/batch.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "pipeline/atomic_file.h"
+#include "pipeline/point_io.h"
+#include "pipeline/run_sample.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int CountLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+TEST(Batch, HundredFilesThreeCorrupt) {
+  auto truth = LoadSampleTruth(std::string(TPCAL_SOURCE_DIR) + "/samples/turning/truth.yaml");
+  ASSERT_TRUE(truth.ok()) << truth.status().ToString();
+  truth->sim.noise_um = 0.0;  // noise is added per file below
+  auto sample = SimulateSample(*truth);
+  ASSERT_TRUE(sample.ok()) << sample.status().ToString();
+  const PointSet& clean = sample->simulated.points;
+
+  const fs::path dir = fs::path(testing::TempDir()) / "tpcal_batch_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "in");
+  constexpr int kFiles = 100;
+  const std::set<int> corrupt = {7, 42, 93};
+  PointWriteOptions w;
+  w.fixed_decimals = 5;
+  for (int f = 0; f < kFiles; ++f) {
+    PointSet pts = clean;
+    std::mt19937_64 rng(1000 + static_cast<std::uint64_t>(f));
+    std::normal_distribution<double> noise_mm(0.0, 0.5e-3);  // 0.5 um along the normal
+    for (std::size_t i = 0; i < pts.size(); ++i) pts.xyz_mm[i] += noise_mm(rng) * pts.normal[i];
+    auto csv = FormatPointCsv(pts, w);
+    ASSERT_TRUE(csv.ok());
+    std::string text = *csv;
+    if (f == 7) {  // a non-number in a coordinate
+      const auto pos = text.find('\n', text.find("feature,")) + 1;
+      const auto comma = text.find(',', pos);
+      text.replace(comma + 1, 3, "abc");
+    } else if (f == 42) {  // cut off in the middle of a row (a crashed export)
+      text.resize(text.size() / 2);
+      text.resize(text.rfind(',') + 1);
+    } else if (f == 93) {  // one feature (S4) left with 2 points: a circle needs 3
+      std::string kept;
+      int s4 = 0;
+      std::istringstream in(text);
+      for (std::string line; std::getline(in, line);)
+        if (!line.starts_with("S4,") || ++s4 <= 2) kept += line + "\n";
+      text = kept;
+    }
+    ASSERT_TRUE(WriteFileAtomic((dir / "in" / fmt::format("run{:03d}.csv", f)).string(), text).ok());
+  }
+
+  auto files = ExpandBatchInputs((dir / "in").string());
+  ASSERT_TRUE(files.ok()) << files.status().ToString();
+  ASSERT_EQ(files->size(), static_cast<std::size_t>(kFiles));
+
+  BatchOptions options;
+  options.base.testpiece = "turning";
+  options.base.machine = std::string(TPCAL_SOURCE_DIR) + "/samples/machines/ac_table.yaml";
+  options.base.monte_carlo_trials = 0;  // jackknife only, no diagnosis: keeps 100 runs fast
+  options.base.diagnose = false;
+  options.base.points = "(batch)";
+  options.out_dir = (dir / "out").string();
+  options.write_runs = false;  // run directories: tests/cli/run_batch_test.sh
+  std::size_t callbacks = 0;
+  auto result = RunBatch(*files, options, [&](const BatchItem&, std::size_t done, std::size_t total) {
+    ++callbacks;
+    EXPECT_LE(done, total);
+  });
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  EXPECT_EQ(callbacks, static_cast<std::size_t>(kFiles));
+  EXPECT_EQ(result->failed, 3);
+  int ok = 0;
+  for (int f = 0; f < kFiles; ++f) {
+    const BatchItem& item = result->items[static_cast<std::size_t>(f)];
+    EXPECT_EQ(item.points, (*files)[static_cast<std::size_t>(f)]);  // input order kept
+    if (corrupt.count(f)) {
+      EXPECT_FALSE(item.status.ok()) << f;
+      // A clear error: names the file (and for the parse errors, the line).
+      EXPECT_NE(item.status.ToString().find(fmt::format("run{:03d}.csv", f)), std::string::npos)
+          << item.status.ToString();
+      EXPECT_TRUE(item.run_dir.empty());
+    } else {
+      EXPECT_TRUE(item.status.ok()) << item.status.ToString();
+      EXPECT_FALSE(item.parameters.empty());
+      ++ok;
+    }
+  }
+  EXPECT_EQ(ok, 97);
+  EXPECT_NE(result->items[7].status.ToString().find("abc"), std::string::npos) << result->items[7].status.ToString();
+  EXPECT_GT(result->items[7].status.line(), 0u);
+  EXPECT_NE(result->items[93].status.ToString().find("S4"), std::string::npos) << result->items[93].status.ToString();
+
+  const std::string summary = ReadText(dir / "out" / "summary.csv");
+  EXPECT_EQ(CountLines(summary), kFiles + 1);
+  EXPECT_NE(summary.find("dx_CR(0)_um"), std::string::npos);
+  EXPECT_EQ(CountLines(summary) - 1, 97 + 3);
+  int error_rows = 0;
+  std::istringstream in(summary);
+  for (std::string line; std::getline(in, line);)
+    error_rows += !line.starts_with("run,") && line.find(",error,") != std::string::npos;
+  EXPECT_EQ(error_rows, 3);
+  EXPECT_TRUE(fs::is_regular_file(dir / "out" / "summary_trend.svg"));
+  // The same files on one thread give the same rows (order and numbers do not depend on
+  // scheduling): the first 10 files, one of them corrupt.
+  options.threads = 1;
+  options.out_dir = (dir / "out1").string();
+  const std::vector<std::string> first(files->begin(), files->begin() + 10);
+  auto serial = RunBatch(first, options);
+  ASSERT_TRUE(serial.ok());
+  const std::string serial_summary = ReadText(dir / "out1" / "summary.csv");
+  std::istringstream a(summary), b(serial_summary);
+  std::string la, lb;
+  for (int row = 0; row < 11 && std::getline(a, la) && std::getline(b, lb); ++row) EXPECT_EQ(la, lb) << row;
+  fs::remove_all(dir);
+}
+
+TEST(Batch, NothingToRunIsAnError) {
+  auto files = ExpandBatchInputs(std::string(TPCAL_SOURCE_DIR) + "/samples/turning/*.nothing");
+  ASSERT_FALSE(files.ok());
+  EXPECT_EQ(files.status().code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
