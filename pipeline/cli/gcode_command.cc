@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "gcode/options.h"
 #include "gcode/options_yaml.h"
 #include "gcode/post_program.h"
@@ -222,6 +224,15 @@ int RunGcode(const GcodeArgs& args) {
                         ")\n" + testpieces::FormatPieceConfig(piece->config)});
     outs.push_back({args.output + ".post.yaml",
                     "# effective post options of " + args.output + "\n" + gcode::FormatGcodeOptions(*options)});
+  }
+  // A missing or read-only output directory is found before the first file is written.
+  for (const Out& o : outs) {
+    const std::filesystem::path parent = std::filesystem::path(o.path).parent_path();
+    const std::string dir = parent.empty() ? "." : parent.string();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0) {
+      return ReportError(Status(StatusCode::kIoError, "cannot write here: '" + dir + "' is not a writable directory", o.path));
+    }
   }
   for (const Out& o : outs) {
     if (Status s = pipeline::WriteFileAtomic(o.path, o.text); !s.ok()) return ReportError(s);

@@ -88,6 +88,8 @@ bad_input)
   printf 'schema: tpcal.gcode/1\ndialect: fanuc\ntools:\n  - {piece_tool: 2, number: 7}\n' > post_tools.yaml
   expect_bad '^post_tools\.yaml: tools: piece tool 2 is not used' \
     --testpiece iso10791_m2 --post post_tools.yaml --dialect fanuc -o p.nc
+  # An output directory that does not exist: found before the program is written.
+  expect_bad "^no_such_dir/p\.svg: cannot write here" --testpiece iso10791_m2 --dialect fanuc -o p.nc --svg no_such_dir/p.svg
   expect_bad '^tpcal gcode: --skip-check: expected strokes, rapids or tool_fit' \
     --testpiece iso10791_m2 --dialect fanuc -o p.nc --skip-check everything
   expect_bad '^tpcal gcode: --date: expected YYYY-MM-DD' --testpiece iso10791_m2 --dialect fanuc -o p.nc --date today
