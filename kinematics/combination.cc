@@ -47,8 +47,27 @@ std::vector<Eigen::VectorXd> EstimableCombinations(const Eigen::MatrixXd& null_s
   for (Eigen::Index a = 0; a < s; ++a) NS.row(a) = null_space.row(subset[a]);
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(NS.transpose(), Eigen::ComputeFullV);
   const Eigen::Index rank = (svd.singularValues().array() > 1e-9).count();
-  for (Eigen::Index j = rank; j < s; ++j) {
-    Eigen::VectorXd c = svd.matrixV().col(j);
+  // Basis of the estimable combinations (the orthogonal complement of the null space within the
+  // subset), brought to reduced row echelon form so each combination involves few parameters
+  // (e.g. "dx_CR(0) - 0.4057 beta_ZX" rather than a dense SVD vector).
+  const Eigen::Index m = s - rank;
+  if (m <= 0) return out;
+  Eigen::MatrixXd B(m, s);
+  for (Eigen::Index j = rank; j < s; ++j) B.row(j - rank) = svd.matrixV().col(j).transpose();
+  Eigen::Index row = 0;
+  for (Eigen::Index col = 0; col < s && row < m; ++col) {
+    Eigen::Index piv = row;
+    B.col(col).segment(row, m - row).cwiseAbs().maxCoeff(&piv);
+    piv += row;
+    if (std::abs(B(piv, col)) < 1e-9) continue;
+    B.row(row).swap(B.row(piv));
+    B.row(row) /= B(row, col);
+    for (Eigen::Index r = 0; r < m; ++r)
+      if (r != row) B.row(r) -= B(r, col) * B.row(row);
+    ++row;
+  }
+  for (Eigen::Index j = 0; j < m; ++j) {
+    Eigen::VectorXd c = B.row(j).transpose();
     NormaliseCombination(&c);
     Eigen::VectorXd full = Eigen::VectorXd::Zero(null_space.rows());
     for (Eigen::Index a = 0; a < s; ++a) full(subset[a]) = c(a);
