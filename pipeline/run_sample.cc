@@ -70,6 +70,8 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         t.points_per_hole = v.as<int>();
       } else if (key == "levels_per_face") {
         t.levels_per_face = v.as<int>();
+      } else if (key == "levels_per_hole") {
+        t.levels_per_hole = v.as<int>();
       } else if (key == "errors") {
         if (!v.IsMap()) return At(path, v, "'errors': expected a tpcal.errors/1 map");
         YAML::Emitter e;
@@ -80,7 +82,7 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         return At(path, kv.first,
                   "unknown key '" + key +
                       "' (expected schema, description, testpiece, machine, seed, noise_um, probe_radius_error_um, "
-                      "random_placement, points_per_circle, points_per_hole, levels_per_face, errors)");
+                      "random_placement, points_per_circle, points_per_hole, levels_per_face, levels_per_hole, errors)");
       }
     } catch (const YAML::Exception&) {
       return At(path, v, "'" + key + "': wrong type");
@@ -101,6 +103,7 @@ Result<SimulatedSample> SimulateSample(const SampleTruth& truth) {
   if (truth.points_per_circle) density.points_per_circle = *truth.points_per_circle;
   if (truth.points_per_hole) density.points_per_hole = *truth.points_per_hole;
   if (truth.levels_per_face) density.levels_per_face = *truth.levels_per_face;
+  if (truth.levels_per_hole) density.levels_per_hole = *truth.levels_per_hole;
   sim.density = density;
   auto simulated = testpieces::SimulatePiece(setup->piece, setup->machine, *errors, sim);
   if (!simulated.ok()) return simulated.status();

@@ -14,6 +14,7 @@
 //   points_per_circle: 16              # optional probing density overrides (else the piece's)
 //   points_per_hole: 8
 //   levels_per_face: 1
+//   levels_per_hole: 1
 //   errors: {machine: ac_table, dx_CR(0)_um: 12.4, ...}   # tpcal.errors/1 body (kinematics/errors_yaml.md)
 #pragma once
 
@@ -37,7 +38,7 @@ struct SampleTruth {
   std::string machine;  // resolved path or ""
   std::string errors_yaml;  // tpcal.errors/1 text
   testpieces::PieceSimOptions sim;
-  std::optional<int> points_per_circle, points_per_hole, levels_per_face;
+  std::optional<int> points_per_circle, points_per_hole, levels_per_face, levels_per_hole;
 };
 
 Result<SampleTruth> LoadSampleTruth(const std::string& path);
