@@ -53,6 +53,10 @@ TEST(RunSample, TurningSampleIsWhatItsTruthGenerates) {
   CheckOrRegenerate(kSampleDir + "turning/truth.yaml", kSampleDir + "turning/cmm_points.csv");
 }
 
+TEST(RunSample, M1SampleIsWhatItsTruthGenerates) {
+  CheckOrRegenerate(kSampleDir + "m1/truth.yaml", kSampleDir + "m1/cmm_points.csv");
+}
+
 TEST(RunSample, TruthFileErrorsAreReported) {
   auto bad = LoadSampleTruth(kSampleDir + "turning/no_such_truth.yaml");
   ASSERT_FALSE(bad.ok());

@@ -78,6 +78,22 @@ TEST(RunStage, TurningSampleRecoversTheStatedTruth) {
   EXPECT_GT(id.rms_after_um, 0.3);
 }
 
+TEST(RunStage, M1SampleRecoversTheStatedSquareness) {
+  auto c = LoadPipelineConfig(std::string(TPCAL_SOURCE_DIR) + "/samples/pipelines/m1.yaml");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  c->monte_carlo_trials = 0;
+  auto r = RunPipeline(*c);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_EQ(r->stage.identification.parameters.size(), 3u);  // the three ISO 230-1 squareness errors
+  for (const auto& p : r->stage.identification.parameters) {
+    ASSERT_TRUE(p.identifiable) << p.name;
+    EXPECT_LE(std::abs(p.value - r->truth.at(p.name)), kSigmas * p.u)
+        << p.name << ": " << p.value << " +- " << p.u << " " << p.unit << ", truth " << r->truth.at(p.name);
+  }
+  ASSERT_TRUE(r->diagnosis.has_value()) << r->diagnosis_status.ToString();
+  EXPECT_EQ(r->diagnosis->verdict.family, "none");
+}
+
 // The sample's truth holds only errors of the identified set: the diagnosis must find nothing
 // beyond noise (a false alarm here would be a wrong verdict on a clean piece).
 TEST(RunStage, CleanSampleDiagnosisFindsNothingBeyondNoise) {
