@@ -229,7 +229,7 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   std::vector<bool> base_ident;
   const int passes = reference_mode ? 1 : 2;
   for (int pass = 0; pass < passes; ++pass) {
-    auto lin = kinematics::LineariseObservations(machine, errors, base_active, obs);
+    auto lin = LineariseBySlots(machine, errors, reference_mode ? std::vector<int>{} : base_active.coefficients, obs);
     if (!lin.ok()) return lin.status();
     X0.resize(n, q_fit + 6);
     if (q_fit > 0) X0.leftCols(q_fit) = lin->J_dev_params;
@@ -459,8 +459,38 @@ Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinem
   auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
   if (!inspection.ok()) return inspection.status();
   auto obs = ObservationsFromPoints(piece, measured, inspection->datum_from_cmm);
-  if (!obs.ok()) return obs.status();
-  return DiagnoseObservations(piece, machine, *obs, options);
+  std::vector<std::string> skipped;
+  if (!obs.ok()) {
+    // A point whose cut cannot be found (typically at a face edge, pushed out of the machined band
+    // by errors and noise) fails the whole conversion; the diagnosis keeps every other point and
+    // reports the skipped ones. Unknown features and unlabelled points stay errors.
+    MeasuredObservations kept;
+    std::map<int, int> group_of_label;
+    for (std::size_t i = 0; i < measured.size(); ++i) {
+      const int label = measured.feature.empty() ? PointSet::kUnlabelled : measured.feature[i];
+      if (label == PointSet::kUnlabelled) return obs.status();
+      const std::string& name = measured.feature_names[static_cast<std::size_t>(label)];
+      if (!piece.Feature(name)) return obs.status();
+      const Eigen::Vector3d p_datum = inspection->datum_from_cmm * measured.xyz_mm[i];
+      auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
+      if (!cut.ok()) {
+        skipped.push_back(Status(cut.status()).WithLocation(measured.source, measured.LineOf(i)).ToString());
+        continue;
+      }
+      auto [it, inserted] = group_of_label.try_emplace(label, static_cast<int>(kept.feature_names.size()));
+      if (inserted) kept.feature_names.push_back(name);
+      kinematics::Observation o;
+      o.cut = *cut;
+      o.measured_mm = piece.part_from_datum * p_datum;
+      o.group = it->second;
+      kept.observations.push_back(o);
+      kept.point_index.push_back(i);
+    }
+    obs = std::move(kept);
+  }
+  auto result = DiagnoseObservations(piece, machine, *obs, options);
+  if (result.ok()) result->skipped_points = std::move(skipped);
+  return result;
 }
 
 }  // namespace tpcal::pipeline

@@ -133,6 +133,7 @@ struct DiagnosisResult {
   std::vector<CandidateResult> candidates;       // best first (cv_rms_after ascending; unobservable last)
   std::vector<UnobservableFamily> unobservable;  // families with no observable candidate
   Verdict verdict;
+  std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"
   std::vector<double> gap_um;                    // per observation
   std::vector<std::string> point_feature;        // per observation
 };
@@ -144,8 +145,10 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const DiagnosisOptions& options = {});
 
 // Measured CMM points (any placement): datum frame from the piece's inspection plan, then
-// DiagnoseObservations. Errors: those of gdt::EvaluatePlan and ObservationsFromPoints (file and
-// line), kTooFewPoints when the base design has no residual degrees of freedom.
+// DiagnoseObservations. Points that no cut of their feature reaches (ObservationsFromPoints'
+// association failures, e.g. at a face edge) are skipped and listed in skipped_points.
+// Errors: those of gdt::EvaluatePlan, unlabelled points or unknown features (file and line),
+// kTooFewPoints when the base design has no residual degrees of freedom.
 Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                  const PointSet& measured, const DiagnosisOptions& options = {});
 

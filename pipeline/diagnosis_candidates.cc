@@ -146,6 +146,69 @@ void DropZeroColumns(CandidateColumns* c) {
 
 }  // namespace
 
+Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
+                                                  const kinematics::ErrorState& errors,
+                                                  const std::vector<int>& coefficients,
+                                                  std::span<const kinematics::Observation> obs) {
+  // 1. The slots the coefficients write.
+  std::vector<std::pair<Axis, kinematics::Component>> slots;
+  auto slot_index = [&](Axis a, kinematics::Component c) {
+    for (std::size_t k = 0; k < slots.size(); ++k)
+      if (slots[k].first == a && slots[k].second == c) return static_cast<int>(k);
+    slots.emplace_back(a, c);
+    return static_cast<int>(slots.size()) - 1;
+  };
+  for (int c : coefficients) {
+    const auto& term = errors.terms()[static_cast<std::size_t>(errors.coefficient_info(c).term)];
+    for (const auto& e : term.effects) slot_index(e.axis, e.component);
+  }
+  if (slots.empty()) slot_index(Axis::kX, kinematics::Component::kTx);  // the design still needs a call
+  // 2. One probe term per slot: a power-0 polynomial (value 1, no condition) at zero.
+  kinematics::ErrorState probe = errors;
+  std::vector<std::string> probe_names;
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    kinematics::ErrorTerm t;
+    t.kind = kinematics::TermKind::kPolynomial;
+    t.label = "diagnosis_slot_" + std::to_string(k);
+    t.quantity = kinematics::IsAngular(slots[k].second) ? kinematics::Quantity::kAngle : kinematics::Quantity::kLength;
+    t.effects = {kinematics::SlotEffect{slots[k].first, slots[k].second, 1.0}};
+    t.argument = Axis::kX;
+    t.powers = {0};
+    t.coefficients = {0.0};
+    if (Status st = probe.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot probe");
+    probe_names.push_back(probe.coefficient_info(probe.num_coefficients() - 1).name);
+  }
+  auto active = kinematics::SelectCoefficients(probe, probe_names);
+  if (!active.ok()) return active.status();
+  auto lin = kinematics::LineariseObservations(machine, probe, *active, obs);
+  if (!lin.ok()) return lin.status();
+  // ds(um)/d slot (internal units).
+  Eigen::MatrixXd dslot = lin->J_dev_params;
+  for (std::size_t k = 0; k < slots.size(); ++k)
+    dslot.col(static_cast<Eigen::Index>(k)) *=
+        probe.coefficient_info(active->coefficients[k]).display_per_internal;
+  // 3. Chain rule per coefficient.
+  const auto n = static_cast<Eigen::Index>(obs.size());
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(coefficients.size()));
+  std::vector<double> w;
+  for (std::size_t j = 0; j < coefficients.size(); ++j) {
+    const auto& info = errors.coefficient_info(coefficients[j]);
+    const auto& term = errors.terms()[static_cast<std::size_t>(info.term)];
+    std::vector<std::pair<int, double>> sg;
+    for (const auto& e : term.effects) sg.emplace_back(slot_index(e.axis, e.component), e.gain);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      kinematics::EvaluateTermBasis(term, obs[static_cast<std::size_t>(i)].cut.axes, &w);
+      const double b = w[static_cast<std::size_t>(info.index)];
+      if (b == 0.0) continue;
+      double v = 0;
+      for (const auto& [k, g] : sg) v += g * dslot(i, k);
+      J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
+    }
+  }
+  lin->J_dev_params = std::move(J);
+  return lin;
+}
+
 Eigen::Vector3d MachineNormal(const kinematics::MachineModel& machine, const kinematics::Observation& o) {
   const kinematics::ErrorState zero(machine);
   kinematics::Workspace ws;
@@ -185,7 +248,7 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
   if (!lin_names.empty()) {
     auto active = kinematics::SelectCoefficients(combined, lin_names);
     if (!active.ok()) return active.status();
-    auto lin = kinematics::LineariseObservations(machine, combined, *active, obs);
+    auto lin = LineariseBySlots(machine, combined, active->coefficients, obs);
     if (!lin.ok()) return lin.status();
     std::map<std::string, int> col;
     for (std::size_t k = 0; k < lin_names.size(); ++k) col[lin_names[k]] = static_cast<int>(k);

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,20 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
                                            const kinematics::ErrorState& errors,
                                            const MeasuredObservations& observations,
                                            const std::vector<std::string>& base_names, bool reference_mode);
+
+// d deviation / d coefficient (um per display unit) of the coefficients `coefficients` of `errors`
+// at the state `errors`, by the chain rule through the error slots they write: one
+// kinematics::LineariseObservations over one zero-valued probe term per slot used (a handful of
+// slots instead of every coefficient), times each coefficient's gain and basis value at the cut's
+// nominal axis state (EvaluateTermBasis, conditions included). Equal to the direct Jacobian at
+// zero errors; at non-zero errors the basis is taken at the nominal instead of the solved sweep
+// position, a relative change of order (error / tangent speed) (~1e-4 for tens of um).
+// Returns the LinearDesign with J_dev_params holding these columns (alignment, measured and
+// predicted deviations as LineariseObservations gives them).
+Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
+                                                  const kinematics::ErrorState& errors,
+                                                  const std::vector<int>& coefficients,
+                                                  std::span<const kinematics::Observation> observations);
 
 // Machine-frame outward normal of an observation (nominal kinematics at its cut state).
 Eigen::Vector3d MachineNormal(const kinematics::MachineModel& machine, const kinematics::Observation& o);

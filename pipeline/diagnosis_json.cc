@@ -99,6 +99,7 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
   for (const auto& u : r.unobservable) un.push_back({{"family", u.family}, {"reason", u.reason}});
   j["unobservable"] = un;
   j["base_parameters"] = ParametersJson(r.base_parameters);
+  j["skipped_points"] = r.skipped_points;
   if (!inputs.empty()) {
     json in = json::object();
     for (const auto& [k, val] : inputs) in[k] = val;
@@ -148,6 +149,9 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     }
   }
   for (const auto& u : r.unobservable) o += "unobservable: " + u.family + ": " + u.reason + "\n";
+  if (!r.skipped_points.empty())
+    o += fmt::format("{} point(s) skipped (no cut of their feature reaches them), first: {}\n", r.skipped_points.size(),
+                     r.skipped_points.front());
   return o;
 }
 

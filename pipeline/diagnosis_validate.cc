@@ -353,7 +353,7 @@ std::string ValidationMarkdown(const ValidationSummary& s) {
                      ta != s.top1_or_alias_rate.end() ? fmt::format("{:.0f} %", 100 * ta->second) : "-",
                      un != s.unobservable_trials.end() ? un->second : 0);
   }
-  o += "\nTop-1 rate by magnitude (peak visible signature / noise sigma), observable trials:\n\n| family |";
+  o += "\nTop-1 rate by magnitude (signature peak / noise sigma), observable trials:\n\n| family |";
   std::vector<double> mags;
   for (const auto& [f, m] : s.top1_by_magnitude)
     for (const auto& [mag, r] : m)

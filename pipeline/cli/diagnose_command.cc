@@ -42,6 +42,7 @@ struct DiagnoseArgs {
   std::vector<std::string> families;
   std::string markdown;
   bool raw_peak = false;
+  bool no_placement = false;
 };
 
 struct Setup {
@@ -95,6 +96,7 @@ int RunValidate(const DiagnoseArgs& args, const Setup& setup) {
   v.noise_um = args.noise_levels;
   v.families = args.families;
   v.scale_raw_peak = args.raw_peak;
+  v.random_placement = !args.no_placement;
   Info(fmt::format("tpcal diagnose --validate: {} piece, seed {}, {} trial(s) per family, magnitude and noise level",
                    setup.piece.name, args.seed, args.trials));
   auto summary = pipeline::RunValidation(setup.piece, setup.machine, v);
@@ -189,6 +191,7 @@ Command RegisterDiagnose(CLI::App& app) {
   sub->add_option("--noise", args->noise_levels, "validation: CMM noise sigmas (um)")->delimiter(',');
   sub->add_option("--families", args->families, "validation: families to withhold (default all and none)")->delimiter(',');
   sub->add_option("--markdown", args->markdown, "validation: also write the Markdown table here");
+  sub->add_flag("--no-placement", args->no_placement, "validation: the CMM frame is the datum frame (no random placement)");
   sub->add_flag("--raw-peak", args->raw_peak,
                 "validation: magnitudes scale the raw signature's peak (default: the part the base model cannot absorb)");
   return {sub, [args] { return RunDiagnose(*args); }};
