@@ -67,8 +67,19 @@ bad_input)
     [ -z "$left" ] || fail "files written on bad input ($left) for: $*"
     echo "ok: $(head -n 1 err.txt | cut -c1-150)"
   }
-  # A rapid through the stock (the known turning defect) names the block; nothing written.
-  expect_bad '^p\.ngc: N[0-9]+: rapid move enters the stock envelope' --testpiece turning --dialect linuxcnc -o p.ngc
+  # A safety violation names the block; nothing written. The only one a valid configuration
+  # reaches today is the known turning retract through the S_i stock (testpieces validates tool
+  # sizes and strokes before gcode sees the piece); once testpieces is fixed this case says so
+  # and is skipped (a machine file with short strokes fails earlier, in the piece's IK).
+  if "$TPCAL" -q gcode --testpiece turning --dialect linuxcnc -o fixed.ngc --no-effective-config 2> /dev/null; then
+    echo "note: the turning program passes the rapid check now (testpieces fixed): drop this case"
+    rm -f fixed.ngc fixed.ngc.tbl
+  else
+    expect_bad '^p\.ngc: N[0-9]+: rapid move enters the stock envelope' --testpiece turning --dialect linuxcnc -o p.ngc
+  fi
+  printf 'schema: tpcal.machine/1\nname: short X\ntype: xyz\nworkpiece_chain: [Y, X]\ntool_chain: [Z]\naxes:\n  X: {min_mm: -50, max_mm: 50}\n  Y: {min_mm: -200, max_mm: 200}\n  Z: {min_mm: -10, max_mm: 500}\n' > cfg_short_x.yaml
+  expect_bad '^cfg_short_x\.yaml: .*axis X at -?[0-9.]+ mm is outside its stroke' --testpiece iso10791_m2 \
+    --machine cfg_short_x.yaml --dialect linuxcnc -o p.ngc
   expect_bad 'unknown test piece .square.' --testpiece square --dialect fanuc -o p.nc
   expect_bad '^tpcal gcode: --dialect: expected fanuc, linuxcnc, sinumerik or heidenhain' \
     --testpiece iso10791_m2 --dialect haas -o p.nc
