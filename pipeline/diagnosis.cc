@@ -227,7 +227,10 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   Basis base;
   Eigen::VectorXd base_coef, base_u;
   std::vector<bool> base_ident;
-  const int passes = reference_mode ? 1 : 2;
+  // Gauss-Newton: a second linearisation at the fitted base only when the fit is large enough for
+  // second-order terms to matter: |angle| > 1000 urad or |length| > 1000 um (below that they stay
+  // under lever * angle^2 = 500 mm * 1e-6 = 5e-4 um, far below any CMM noise).
+  int passes = 1;
   for (int pass = 0; pass < passes; ++pass) {
     auto lin = LineariseBySlots(machine, errors, reference_mode ? std::vector<int>{} : base_active.coefficients, obs);
     if (!lin.ok()) return lin.status();
@@ -239,6 +242,9 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
     const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
     const double s2 = r0.squaredNorm() / std::max<double>(1.0, static_cast<double>(n - base.rank));
     Solve(base, y, s2, &base_coef, &base_u, &base_ident);
+    if (pass == 0 && !reference_mode)
+      for (int k = 0; k < q_fit; ++k)
+        if (base_ident[static_cast<std::size_t>(k)] && std::abs(base_coef(k)) > 1000.0) passes = 2;
     if (pass + 1 < passes) {  // move the linearisation point to the fitted base errors
       for (int k = 0; k < q_fit; ++k) {
         const int c = base_active.coefficients[static_cast<std::size_t>(k)];

@@ -58,6 +58,7 @@ Result<Setup> LoadSetup(const DiagnoseArgs& a) {
   } else if (a.testpiece == "turning_enriched") {
     testpieces::TurningPieceParams p;
     p.groove_inner_wall_pass = true;
+    p.name = "seed 002 turning piece, enriched (inner groove wall cut CW, 3 levels x 32 points per face)";
     testpieces::PieceConfig c;
     c.params = p;
     c.probing.points_per_circle = 32;
