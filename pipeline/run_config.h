@@ -14,7 +14,7 @@
 //   diagnose: true                          # gap diagnosis (pipeline/diagnosis.h) against the identified model
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
 //   report: {position_magnification: 1000, profile_magnification: 10000}
-//   out: tpcal-out/turning                  # optional output directory (the CLI's --out wins)
+//   out: out/turning                        # optional output directory (the CLI's --out wins)
 // Unknown keys are errors naming the key and its line.
 #pragma once
 

@@ -26,15 +26,6 @@ constexpr const char* kCss =
     ".ttl{fill:#000;font-size:13px;font-weight:bold}.na{fill:#999;font-style:italic}.zero{stroke:#444;stroke-width:1}";
 
 
-// "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1)" -> "E_X0C": the ISO 230-1 relation without the
-// commentary, for figure labels (the tables carry the full text).
-std::string ShortIsoSymbol(const std::string& symbol) {
-  std::string s = symbol.substr(0, symbol.find(" ("));
-  s = s.substr(0, s.find(" for "));
-  if (const auto eq = s.find(" = "); eq != std::string::npos) s = s.substr(eq + 3);
-  return s;
-}
-
 const gdt::CharacteristicSpec* FindHolePattern(const gdt::InspectionPlan& plan) {
   for (const auto& c : plan.characteristics)
     if (c.type == gdt::CharacteristicType::kHolePattern) return &c;
@@ -42,6 +33,13 @@ const gdt::CharacteristicSpec* FindHolePattern(const gdt::InspectionPlan& plan) 
 }
 
 }  // namespace
+
+std::string ShortIsoSymbol(const std::string& symbol) {
+  std::string s = symbol.substr(0, symbol.find(" ("));
+  s = s.substr(0, s.find(" for "));
+  if (const auto eq = s.find(" = "); eq != std::string::npos) s = s.substr(eq + 3);
+  return s;
+}
 
 std::optional<Figure> HolePositionsFigure(const gdt::InspectionPlan& plan, const gdt::InspectionResult& inspection,
                                           const FigureOptions& options) {

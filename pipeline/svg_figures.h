@@ -36,6 +36,10 @@ struct Figure {
   std::string svg;      // complete SVG document
 };
 
+// "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1)" -> "E_X0C": the ISO 230-1 symbol of a catalog
+// relation without its commentary, for figure labels and terminal tables (reports carry the full text).
+std::string ShortIsoSymbol(const std::string& symbol);
+
 // Hole centres (datum XY) versus the plan's hole_pattern nominals. Needs a hole_pattern
 // characteristic in `plan` with its pitch-circle feature fitted in `inspection`.
 std::optional<Figure> HolePositionsFigure(const gdt::InspectionPlan& plan, const gdt::InspectionResult& inspection,

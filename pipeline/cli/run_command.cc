@@ -17,6 +17,7 @@
 #include "pipeline/run_config.h"
 #include "pipeline/run_output.h"
 #include "pipeline/run_stage.h"
+#include "pipeline/svg_figures.h"
 
 namespace tpcal::cli {
 namespace {
@@ -66,20 +67,26 @@ Result<pipeline::PipelineConfig> BuildConfig(const RunArgs& a, bool batch) {
 }
 
 void PrintParameters(const pipeline::RunResult& r) {
-  std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", "parameter", "ISO 230-1", "value", "u",
+  std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", "parameter", "ISO 230-1", "value", "u (k=1)",
                            "95 % interval", "unit");
   for (const auto& p : r.stage.identification.parameters) {
     if (p.identifiable)
-      std::cout << fmt::format("{:<16} {:<22} {:>10.2f} {:>9.3f} [{:>9.2f}, {:>9.2f}]  {}\n", p.name, p.iso_symbol,
+      std::cout << fmt::format("{:<16} {:<22} {:>10.2f} {:>9.3f} [{:>9.2f}, {:>9.2f}]  {}\n", p.name, pipeline::ShortIsoSymbol(p.iso_symbol),
                                p.value, p.u, p.ci95_low, p.ci95_high, p.unit);
     else
-      std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", p.name, p.iso_symbol, "n/a", "-",
+      std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", p.name, pipeline::ShortIsoSymbol(p.iso_symbol), "n/a", "-",
                                "not identifiable", p.unit);
   }
   const auto& ia = r.stage.identification.identifiability;
   std::cout << fmt::format("rank {} of {}, condition number {:.3g}; residual RMS {:.3f} um -> {:.3f} um\n", ia.rank,
                            ia.num_parameters, ia.condition_number, r.stage.identification.rms_before_um,
                            r.stage.identification.rms_after_um);
+  if (r.diagnosis)
+    std::cout << fmt::format("gap diagnosis: {} ({}), shrink {:.1f} % (cross-validated {:.1f} %)\n",
+                             r.diagnosis->verdict.family, r.diagnosis->verdict.name, r.diagnosis->verdict.shrink_pct,
+                             r.diagnosis->verdict.cv_shrink_pct);
+  else if (r.config.diagnose)
+    std::cout << "gap diagnosis: not made: " << r.diagnosis_status.ToString() << "\n";
 }
 
 int RunSingle(const RunArgs& a) {
