@@ -19,8 +19,10 @@
 // placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
 // signature left after the base model and the re-alignment absorb what they can (the part of the
 // gap the diagnosis can see) peaks at `magnitude` x the noise sigma (or its raw signature, with
-// scale_raw_peak); an effect the base absorbs entirely (visible fraction < 1e-3) is run at that
-// peak of its raw signature and counted as unobservable.
+// scale_raw_peak); an effect the base absorbs (almost) entirely (|visible| < min_visible_fraction
+// |signature|, default 2 %) is run at that peak of its raw signature and counted as unobservable:
+// scaling a 99.9 %-absorbed effect up until its remainder shows would make the remainder a
+// second-order (nonlinear) artefact of a huge error, not the effect's own signature.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +49,7 @@ struct ValidationOptions {
   // magnitude x sigma; true: scale the RAW signature's peak instead (the visible part is then
   // smaller, often much smaller for effects the location errors nearly mimic).
   bool scale_raw_peak = false;
+  double min_visible_fraction = 0.02;  // below: the trial is counted unobservable
   Status Validate() const;
 };
 
@@ -54,7 +57,7 @@ struct ValidationTrial {
   std::string true_family;
   std::string true_detail;     // what was switched on
   double magnitude = 0.0, noise_um = 0.0;
-  bool observable = true;      // false: the base model absorbs the effect entirely
+  bool observable = true;      // false: the base model absorbs the effect (visible_fraction < min)
   double visible_fraction = 0.0;  // |signature left after the base| / |signature|
   std::string verdict;
   std::vector<std::string> indistinguishable_from;
