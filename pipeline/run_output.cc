@@ -57,8 +57,11 @@ std::vector<RunFile> RenderRunFiles(const RunResult& r) {
 
 Status WriteDirectoryAtomic(const std::string& out_dir, const std::vector<RunFile>& files) {
   if (out_dir.empty()) return Status(StatusCode::kInvalidArgument, "no output directory given");
-  const fs::path target = fs::path(out_dir).lexically_normal();
-  const fs::path name = target.filename().empty() ? target.parent_path().filename() : target.filename();
+  fs::path target = fs::path(out_dir).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();  // "out/run/" -> "out/run"
+  const fs::path name = target.filename();
+  if (name.empty() || name == "." || name == "..")
+    return Status(StatusCode::kInvalidArgument, "output directory must name a directory, not '.' or '/'", out_dir);
   const fs::path parent = fs::absolute(target).parent_path();
   std::error_code ec;
   fs::create_directories(parent, ec);

@@ -194,6 +194,10 @@ TEST(RunStage, OutputDirectoryIsCompleteAndReplacedAtomically) {
   { std::ofstream(dir / "stale.txt") << "old"; }
   ASSERT_TRUE(WriteDirectoryAtomic(dir.string(), files).ok());
   EXPECT_FALSE(fs::exists(dir / "stale.txt"));
+  // A trailing slash names the same directory.
+  ASSERT_TRUE(WriteDirectoryAtomic(dir.string() + "/", files).ok());
+  EXPECT_TRUE(fs::is_regular_file(dir / "result.json"));
+  EXPECT_EQ(WriteDirectoryAtomic(".", files).code(), StatusCode::kInvalidArgument);
   // No temporary directory is left beside it.
   for (const auto& e : fs::directory_iterator(dir.parent_path()))
     EXPECT_EQ(e.path().filename().string().find("tpcal_run_stage_out.tmp."), std::string::npos);

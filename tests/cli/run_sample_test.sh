@@ -33,4 +33,13 @@ cmp "$WORK/a/result.json" "$WORK/c/result.json" || fail "flags form differs from
 "$TPCAL" run "$SRC/samples/pipelines/turning.yaml" --seed 2 --out "$WORK/d" -q > /dev/null
 grep -q '"seed": 2' "$WORK/d/result.json" || fail "seed not written"
 if cmp -s "$WORK/a/result.json" "$WORK/d/result.json"; then fail "seed has no effect"; fi
+# Progress: none when stderr is not a terminal; a progress line on a terminal (script(1) gives one).
+"$TPCAL" run "$SRC/samples/pipelines/turning.yaml" --mc-trials 0 --out "$WORK/e" > /dev/null 2> "$WORK/e.err"
+grep -q 'identify\.\.\.' "$WORK/e.err" && fail "progress lines without a terminal"
+grep -q '^wrote ' "$WORK/e.err" || fail "no closing info line without -q"
+if command -v script > /dev/null; then
+  script -qc "'$TPCAL' run '$SRC/samples/pipelines/turning.yaml' --mc-trials 0 --out '$WORK/f'" /dev/null > "$WORK/f.tty"
+  grep -q 'tpcal run: identify\.\.\.' "$WORK/f.tty" || fail "no progress line on a terminal"
+  grep -q 'stages: setup' "$WORK/f.tty" || fail "no stage times on a terminal"
+fi
 echo "run_sample: ok"
