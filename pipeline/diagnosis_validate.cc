@@ -245,7 +245,11 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           const Eigen::VectorXd visible = sig - U0 * (U0.transpose() * sig);
           const double raw_peak = sig.cwiseAbs().maxCoeff(), vis_peak = visible.cwiseAbs().maxCoeff();
           trial.visible_fraction = sig.norm() > 0 ? visible.norm() / sig.norm() : 0.0;
-          trial.observable = family == "none" || trial.visible_fraction > options.min_visible_fraction;
+          // An effect whose unit signature is below 1e-6 um does not act on the measured points
+          // (e.g. Z squareness on horizontal planes): what is left is rounding, not a signature.
+          constexpr double kNoSignature_um = 1e-6;
+          trial.observable = family == "none" ||
+                             (raw_peak > kNoSignature_um && trial.visible_fraction > options.min_visible_fraction);
           double k = 0.0;
           if (family != "none") {
             const double peak = (trial.observable && !options.scale_raw_peak) ? vis_peak : raw_peak;
