@@ -36,12 +36,12 @@ void PrintSummary(const pipeline::IdentificationReport& r) {
   std::cout << fmt::format("{} on {}: {} points in {} features; residual RMS {} um before, {} um after (sigma {} um)\n\n",
                            r.testpiece, r.machine, id.num_observations, id.num_groups, Fixed(id.rms_before_um, 3),
                            Fixed(id.rms_after_um, 3), Fixed(id.sigma_um, 3));
-  std::cout << fmt::format("{:<16} {:<18} {:>10} {:>8} {:>9} {:>9} {:>9} {:>21}\n", "parameter", "ISO 230-1", "value",
-                           "unit", "u_anal", "u_jk_pt", "u_jk_ft", "95 % interval");
+  std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}\n", "parameter", "value", "unit",
+                           "u_anal", "u_jk_pt", "u_jk_ft", "95 % interval", "ISO 230-1");
   for (const auto& p : id.parameters) {
     if (!p.identifiable) {
-      std::cout << fmt::format("{:<16} {:<18} {:>10} {:>8}   not identifiable from this piece (see combinations)\n",
-                               p.name, p.iso_symbol, "-", p.unit);
+      std::cout << fmt::format("{:<15} {:>9} {:<5}   not identifiable from this piece (see combinations)  {}\n",
+                               p.name, "-", p.unit, p.iso_symbol);
       continue;
     }
     auto u_of = [&](kinematics::UncertaintyMethod m) {
@@ -49,11 +49,11 @@ void PrintSummary(const pipeline::IdentificationReport& r) {
         if (u.method == m && u.available) return Fixed(u.u);
       return std::string("-");
     };
-    std::cout << fmt::format("{:<16} {:<18} {:>10} {:>8} {:>9} {:>9} {:>9} {:>21}\n", p.name, p.iso_symbol,
-                             Fixed(p.value), p.unit, u_of(kinematics::UncertaintyMethod::kAnalytic),
+    std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}\n", p.name, Fixed(p.value), p.unit,
+                             u_of(kinematics::UncertaintyMethod::kAnalytic),
                              u_of(kinematics::UncertaintyMethod::kJackknifePoints),
                              u_of(kinematics::UncertaintyMethod::kJackknifeGroups),
-                             "[" + Fixed(p.ci95_low) + ", " + Fixed(p.ci95_high) + "]");
+                             "[" + Fixed(p.ci95_low) + ", " + Fixed(p.ci95_high) + "]", p.iso_symbol);
   }
   const auto& ident = id.identifiability;
   std::cout << fmt::format("\nidentifiability: rank {} of {}, condition number {:.3g}\n", ident.rank,
@@ -91,7 +91,7 @@ int RunIdentify(const IdentifyArgs& args) {
     o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
     o.monte_carlo_trials = args.mc_trials;
   }
-  Info(fmt::format("tpcal identify: {} points of the {} piece from {}", points->size(), setup->piece.name, args.points));
+  Info(fmt::format("tpcal identify: {} points of the {} from {}", points->size(), setup->piece.name, args.points));
   auto report = pipeline::BuildIdentificationReport(setup->piece, setup->machine, *points, options);
   if (!report.ok()) return ReportError(report.status());
   const std::string json = pipeline::IdentificationJson(*report);
