@@ -237,7 +237,13 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
               testpieces::PieceSimOptions so;
               so.process = w->process;
               auto sim = testpieces::SimulatePiece(piece, machine, w->terms ? *w->terms : zero, so);
-              if (!sim.ok()) return sim.status().WithContext("validation signature of " + family);
+              if (!sim.ok()) {  // the simulator cannot cut this piece with this effect: not a diagnosis trial
+                trial.verdict = "simulation failed";
+                trial.true_detail += " | " + sim.status().ToString();
+                ++out.simulation_failures;
+                out.trials.push_back(std::move(trial));
+                continue;
+              }
               for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
             }
             sig.array() += w->probe_um;
@@ -273,7 +279,13 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           so.probe_radius_error_um = w->probe_um;
           so.process = w->process;
           auto sim = testpieces::SimulatePiece(piece, machine, truth, so);
-          if (!sim.ok()) return sim.status().WithContext("validation piece of " + family);
+          if (!sim.ok()) {
+            trial.verdict = "simulation failed";
+            trial.true_detail += " | " + sim.status().ToString();
+            ++out.simulation_failures;
+            out.trials.push_back(std::move(trial));
+            continue;
+          }
           const auto t0 = std::chrono::steady_clock::now();
           auto d = Diagnose(piece, machine, sim->points);
           trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -385,8 +397,9 @@ std::string ValidationMarkdown(const ValidationSummary& s) {
   if (!misses.empty()) o += "\nMissed trials at magnitude >= 5x:\n\n" + misses;
   o += fmt::format("\nfalse alarms on effect-free pieces: {:.1f} %; median cross-validated share of the withheld effect "
                    "explained (magnitude >= 5x, observable; a wrong verdict counts 0): {:.0f} %; median diagnosis time {:.3f} s; "
-                   "{} trials\n",
-                   100 * s.false_alarm_rate, 100 * s.median_cv_explained, s.median_diagnosis_s, s.trials.size());
+                   "{} trials ({} not run: the simulator could not cut the piece with the effect)\n",
+                   100 * s.false_alarm_rate, 100 * s.median_cv_explained, s.median_diagnosis_s, s.trials.size(),
+                   s.simulation_failures);
   return o;
 }
 

@@ -77,6 +77,7 @@ struct ValidationSummary {
   double false_alarm_rate = 0.0;                       // verdict != none on effect-free pieces
   double median_cv_explained = 0.0;                    // magnitude >= 5, observable, effect present
   double median_diagnosis_s = 0.0;
+  int simulation_failures = 0;                         // trials the simulator could not produce (not scored)
 };
 
 Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
