@@ -161,6 +161,7 @@ const char* UncertaintyMethodName(UncertaintyMethod m) {
     case UncertaintyMethod::kJackknifePoints: return "jackknife_points";
     case UncertaintyMethod::kJackknifeGroups: return "jackknife_groups";
     case UncertaintyMethod::kMonteCarlo: return "monte_carlo";
+    case UncertaintyMethod::kRandomSubsets: return "random_subsets";
   }
   return "unknown";
 }
@@ -170,6 +171,10 @@ Status IdentifyOptions::Validate() const {
   if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0))
     return {StatusCode::kInvalidArgument, "rank_tolerance must be in (0, 1)"};
   if (monte_carlo_trials < 0) return {StatusCode::kInvalidArgument, "monte_carlo_trials must be >= 0"};
+  if (random_subset_trials < 0 || random_subset_size < 1)
+    return {StatusCode::kInvalidArgument, "random_subset_trials must be >= 0 and random_subset_size >= 1"};
+  if (primary == UncertaintyMethod::kRandomSubsets && random_subset_trials < 20)
+    return {StatusCode::kInvalidArgument, "the random-subset method needs random_subset_trials >= 20"};
   if (primary == UncertaintyMethod::kMonteCarlo && monte_carlo_trials < 100)
     return {StatusCode::kInvalidArgument, "the Monte Carlo method needs monte_carlo_trials >= 100"};
   if (primary == UncertaintyMethod::kJackknifeGroups && !jackknife_groups)
@@ -396,6 +401,45 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     }
   }
 
+  // Seed 002 section 5: random subsets of each feature's points, linearised refits.
+  std::vector<Eigen::VectorXd> subset_solutions;
+  std::string subset_message;
+  if (options.random_subset_trials > 0) {
+    std::map<int, std::vector<Eigen::Index>> groups;
+    for (Eigen::Index i = 0; i < n; ++i) groups[observations[static_cast<std::size_t>(i)].group].push_back(i);
+    std::mt19937_64 rng(options.seed ^ 0x5eed002ULL);
+    int skipped = 0;
+    for (int t = 0; t < options.random_subset_trials; ++t) {
+      std::vector<Eigen::Index> rows;
+      for (auto& [g, idx] : groups) {
+        std::vector<Eigen::Index> pick = idx;
+        std::shuffle(pick.begin(), pick.end(), rng);
+        pick.resize(std::min<std::size_t>(pick.size(), static_cast<std::size_t>(options.random_subset_size)));
+        rows.insert(rows.end(), pick.begin(), pick.end());
+      }
+      const auto ns = static_cast<Eigen::Index>(rows.size());
+      Eigen::MatrixXd As(ns, m);
+      Eigen::VectorXd es(ns);
+      for (Eigen::Index k = 0; k < ns; ++k) {
+        As.row(k) = Ar.row(rows[static_cast<std::size_t>(k)]);
+        es(k) = e(rows[static_cast<std::size_t>(k)]);
+      }
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+      qr.setThreshold(1e-9);
+      if (qr.rank() < m) {
+        ++skipped;
+        continue;
+      }
+      subset_solutions.push_back(T * qr.solve(es));
+    }
+    if (subset_solutions.size() < 2)
+      subset_message = "no subset of " + std::to_string(options.random_subset_size) +
+                       " points per feature determines every coefficient";
+    else if (skipped > 0)
+      subset_message = std::to_string(skipped) + " of " + std::to_string(options.random_subset_trials) +
+                       " subsets could not determine every coefficient and were skipped";
+  }
+
   // 4. Estimates.
   const double nu_points = dof;
   for (int k = 0; k < q; ++k) {
@@ -434,6 +478,22 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
         um.ci95_low = p.value + draws[lo];
         um.ci95_high = p.value + draws[hi];
         p.uncertainties.push_back(um);
+      }
+      if (options.random_subset_trials > 0) {
+        Uncertainty us;
+        us.method = UncertaintyMethod::kRandomSubsets;
+        us.message = subset_message;
+        if (subset_solutions.size() >= 2) {
+          double mean = 0, ss = 0;
+          for (const auto& v : subset_solutions) mean += v(k);
+          mean /= static_cast<double>(subset_solutions.size());
+          for (const auto& v : subset_solutions) ss += (v(k) - mean) * (v(k) - mean);
+          us = MakeUncertainty(UncertaintyMethod::kRandomSubsets, p.value,
+                               std::sqrt(ss / static_cast<double>(subset_solutions.size() - 1)),
+                               static_cast<double>(subset_solutions.size() - 1));
+          us.message = subset_message;
+        }
+        p.uncertainties.push_back(us);
       }
       for (const auto& u : p.uncertainties) {
         if (u.method == options.primary && u.available) {

@@ -28,7 +28,9 @@
 //    removal makes the system singular leaves the affected coefficients without a group value;
 //  - Monte Carlo (GUM Supplement 1): the linearised least-squares map applied to draws of the
 //    point deviations from a scaled-shifted t distribution (nu = n - q) about the fitted values;
-//    u = standard deviation, 95 % interval from the 2.5 / 97.5 % quantiles.
+//    u = standard deviation, 95 % interval from the 2.5 / 97.5 % quantiles;
+//  - random subsets (seed 002 section 5, optional): k random points per feature, refitted
+//    (linearised), standard deviation over trials.
 // 95 % intervals of the other methods: value -+ t(0.975, nu) u.
 #pragma once
 
@@ -55,7 +57,7 @@ struct Observation {
   int group = 0;                                          // feature index (delete-one-group jackknife)
 };
 
-enum class UncertaintyMethod { kAnalytic, kJackknifePoints, kJackknifeGroups, kMonteCarlo };
+enum class UncertaintyMethod { kAnalytic, kJackknifePoints, kJackknifeGroups, kMonteCarlo, kRandomSubsets };
 const char* UncertaintyMethodName(UncertaintyMethod m);  // "analytic", "jackknife_points", ...
 
 struct IdentifyOptions {
@@ -66,7 +68,13 @@ struct IdentifyOptions {
   UncertaintyMethod primary = UncertaintyMethod::kJackknifePoints;
   bool jackknife_groups = true;    // also the delete-one-group jackknife
   int monte_carlo_trials = 0;      // GUM S1 trials; 0 = off
-  std::uint64_t seed = 1;          // Monte Carlo generator seed
+  // Seed 002 section 5, for comparison: keep `random_subset_size` random points of every feature,
+  // solve the linearised problem on them, repeat; u = standard deviation of the solutions
+  // (trials whose subset cannot determine every coefficient are skipped). 0 = off. It overstates
+  // u when points are well spread (each subset fit nearly interpolates its points).
+  int random_subset_trials = 0;
+  int random_subset_size = 3;
+  std::uint64_t seed = 1;          // Monte Carlo and random-subset generator seed
   Status Validate() const;
 };
 

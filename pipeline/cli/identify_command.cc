@@ -25,6 +25,7 @@ struct IdentifyArgs {
   std::string uncertainty = "all";
   std::vector<std::string> parameters;
   int mc_trials = 2000;
+  int subset_trials = 0;
   std::uint64_t seed = 1;
   std::string json;
 };
@@ -49,11 +50,13 @@ void PrintSummary(const pipeline::IdentificationReport& r) {
         if (u.method == m && u.available) return Fixed(u.u);
       return std::string("-");
     };
-    std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}\n", p.name, Fixed(p.value), p.unit,
+    const std::string subset = u_of(kinematics::UncertaintyMethod::kRandomSubsets);
+    std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}{}\n", p.name, Fixed(p.value), p.unit,
                              u_of(kinematics::UncertaintyMethod::kAnalytic),
                              u_of(kinematics::UncertaintyMethod::kJackknifePoints),
                              u_of(kinematics::UncertaintyMethod::kJackknifeGroups),
-                             "[" + Fixed(p.ci95_low) + ", " + Fixed(p.ci95_high) + "]", p.iso_symbol);
+                             "[" + Fixed(p.ci95_low) + ", " + Fixed(p.ci95_high) + "]", p.iso_symbol,
+                             subset == "-" ? std::string() : "  (random subsets: u " + subset + ")");
   }
   const auto& ident = id.identifiability;
   std::cout << fmt::format("\nidentifiability: rank {} of {}, condition number {:.3g}\n", ident.rank,
@@ -91,6 +94,7 @@ int RunIdentify(const IdentifyArgs& args) {
     o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
     o.monte_carlo_trials = args.mc_trials;
   }
+  o.random_subset_trials = args.subset_trials;
   Info(fmt::format("tpcal identify: {} points of the {} from {}", points->size(), setup->piece.name, args.points));
   auto report = pipeline::BuildIdentificationReport(setup->piece, setup->machine, *points, options);
   if (!report.ok()) return ReportError(report.status());
@@ -134,7 +138,12 @@ Command RegisterIdentify(CLI::App& app) {
   sub->add_option("--parameters", args->parameters, "parameters to identify (default: the piece's standard set)")
       ->delimiter(',');
   sub->add_option("--mc-trials", args->mc_trials, "Monte Carlo trials")->capture_default_str()->check(CLI::Range(10, 10000000));
-  sub->add_option("--seed", args->seed, "Monte Carlo seed")->capture_default_str();
+  sub->add_option("--subset-trials", args->subset_trials,
+                  "also seed 002 section 5's method for comparison: this many random 3-point subsets per feature "
+                  "(0 = off; it overstates u for well-spread points)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  sub->add_option("--seed", args->seed, "Monte Carlo and random-subset seed")->capture_default_str();
   sub->add_option("--json", args->json, "write JSON (schema tpcal.identification/1) to this file; '-' for stdout");
   return {sub, [args] { return RunIdentify(*args); }};
 }
