@@ -14,47 +14,19 @@
 
 #include "kinematics/error_parameters.h"
 #include "kinematics/machine_model.h"
+#include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
 namespace {
 
-kinematics::MachineModel AcTable() {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  EXPECT_TRUE(m.ok());
-  return *m;
-}
+using test_support::AcTable;
+using test_support::RandomTable2;
+using test_support::ToErrorState;
+using test_support::Turning;
 
-const testpieces::TestPiece& Turning() {
-  static const testpieces::TestPiece piece = [] {
-    auto p = testpieces::MakeTestPiece(testpieces::PieceConfig{}, AcTable());
-    EXPECT_TRUE(p.ok()) << p.status().ToString();
-    return *p;
-  }();
-  return piece;
-}
 
 // Random Table 2 errors: magnitude U(10, 50) um or urad, random sign. Values in display units.
-std::map<std::string, double> RandomTable2(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> mag(10.0, 50.0);
-  std::bernoulli_distribution sign(0.5);
-  std::map<std::string, double> truth;
-  for (const auto& name : kinematics::Seed002Set(AcTable())) truth[name] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
-  return truth;
-}
-
-kinematics::ErrorState ToErrorState(const std::map<std::string, double>& display) {
-  const auto machine = AcTable();
-  kinematics::ErrorState errors(machine);
-  for (const auto& [name, value] : display) {
-    auto info = kinematics::LookupParameter(machine, name);
-    EXPECT_TRUE(info.ok());
-    const double internal = info->quantity == kinematics::Quantity::kAngle ? value * 1e-6 : value * 1e-3;
-    EXPECT_TRUE(errors.SetParameter(machine, name, internal).ok());
-  }
-  return errors;
-}
-
 Result<IdentifyStageResult> SimulateAndIdentify(const std::map<std::string, double>& truth, double noise_um,
                                                 std::uint64_t seed, const IdentifyStageOptions& options = {}) {
   testpieces::PieceSimOptions sim_options;

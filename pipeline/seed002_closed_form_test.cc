@@ -14,27 +14,17 @@
 #include "kinematics/error_parameters.h"
 #include "kinematics/seed002_closed_form.h"
 #include "pipeline/seed002_items.h"
+#include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
 namespace {
 
+using test_support::AcTable;
+using test_support::Turning;
+
+
 using kinematics::Seed002Equations;
-
-kinematics::MachineModel AcTable() {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  EXPECT_TRUE(m.ok());
-  return *m;
-}
-
-const testpieces::TestPiece& Turning() {
-  static const testpieces::TestPiece piece = [] {
-    auto p = testpieces::MakeTestPiece(testpieces::PieceConfig{}, AcTable());
-    EXPECT_TRUE(p.ok()) << p.status().ToString();
-    return *p;
-  }();
-  return piece;
-}
 
 kinematics::Seed002Items SimulatedItems(const std::map<std::string, double>& display, bool random_placement) {
   const auto machine = AcTable();

@@ -1,0 +1,56 @@
+// Test support (tests and studies only): the seed 002 turning piece on the nominal A/C table and
+// random Table 2 error sets, as the identification tests and studies use them.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <string>
+
+#include "kinematics/error_parameters.h"
+#include "kinematics/error_state.h"
+#include "kinematics/machine_model.h"
+#include "testpieces/test_piece.h"
+
+namespace tpcal::pipeline::test_support {
+
+inline kinematics::MachineModel AcTable() {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  EXPECT_TRUE(m.ok());
+  return *m;
+}
+
+// The default (seed 002) turning piece, built once.
+inline const testpieces::TestPiece& Turning() {
+  static const testpieces::TestPiece piece = [] {
+    auto p = testpieces::MakeTestPiece(testpieces::PieceConfig{}, AcTable());
+    EXPECT_TRUE(p.ok()) << p.status().ToString();
+    return *p;
+  }();
+  return piece;
+}
+
+// Random Table 2 errors: magnitude U(10, 50) um or urad, random sign (display units).
+inline std::map<std::string, double> RandomTable2(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> mag(10.0, 50.0);
+  std::bernoulli_distribution sign(0.5);
+  std::map<std::string, double> truth;
+  for (const auto& name : kinematics::Seed002Set(AcTable())) truth[name] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
+  return truth;
+}
+
+// Catalog parameters in display units (um, urad) as an ErrorState (mm, rad).
+inline kinematics::ErrorState ToErrorState(const std::map<std::string, double>& display) {
+  const auto machine = AcTable();
+  kinematics::ErrorState errors(machine);
+  for (const auto& [name, value] : display) {
+    auto info = kinematics::LookupParameter(machine, name);
+    EXPECT_TRUE(info.ok()) << name;
+    const double internal = info->quantity == kinematics::Quantity::kAngle ? value * 1e-6 : value * 1e-3;
+    EXPECT_TRUE(errors.SetParameter(machine, name, internal).ok()) << name;
+  }
+  return errors;
+}
+
+}  // namespace tpcal::pipeline::test_support
