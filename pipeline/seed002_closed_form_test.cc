@@ -88,7 +88,8 @@ TEST(Seed002ClosedForm, RoundTripThroughTheSimulator) {
   }
 }
 
-// Seed 002 Table 1, column "Measured on finished test piece" (um, urad).
+// Seed 002 Table 1, column "Measured on finished test piece" (um, urad); the same numbers as
+// samples/seed002/table1_measured.yaml.
 kinematics::Seed002Items PaperTable1() {
   return {{"dx_Ch_SR_um", 10.1},  {"dy_Ch_SR_um", -17.2}, {"da_B1_BR_urad", -8.7}, {"db_B1_BR_urad", 1.7},
           {"dd_B3_BR_um", 23.0},  {"dr_S3_um", -14.5},    {"dx_S4_SR_um", 12.9},   {"dy_S4_SR_um", -23.3},
