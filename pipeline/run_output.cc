@@ -8,6 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -89,8 +91,21 @@ Status WriteDirectoryAtomic(const std::string& out_dir, const std::vector<RunFil
     const fs::path p = temp / f.relative_path;
     fs::create_directories(p.parent_path(), ec);
     if (ec) return cleanup(Status(StatusCode::kIoError, "cannot create directory: " + ec.message(), p.string()));
-    if (Status s = WriteFileAtomic(p.string(), f.contents); !s.ok()) return cleanup(s);
   }
+  // The files are written (and fsynced) concurrently: the fsyncs then share journal commits
+  // instead of waiting for one each.
+  std::vector<Status> written(files.size());
+  {
+    std::vector<std::thread> writers;
+    writers.reserve(files.size());
+    for (std::size_t i = 0; i < files.size(); ++i)
+      writers.emplace_back([&, i] {
+        written[i] = WriteFileAtomic((temp / files[i].relative_path).string(), files[i].contents);
+      });
+    for (auto& t : writers) t.join();
+  }
+  for (const Status& s : written)
+    if (!s.ok()) return cleanup(s);
   if (Status s = FsyncDir(temp); !s.ok()) return cleanup(s);
 
   if (!exists) {
