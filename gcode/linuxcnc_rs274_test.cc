@@ -381,7 +381,6 @@ TEST(Rs274Variants, OptionChoicesRunCleanAndGiveTheIrPath) {
   variants.emplace_back("coarse_css_mist", o);
   for (auto& [name, opts] : variants) {
     SCOPED_TRACE(name);
-    opts.safety.check_rapids = false;  // the known turning retract defect (test_support.h)
     auto posted = PostProgram(*piece, opts);
     ASSERT_TRUE(posted.ok()) << posted.status().ToString();
     const auto run = testing::RunRs274(rs274, testing::OutputDir() / name, *posted);

@@ -40,23 +40,8 @@ std::string BlockOf(const Status& s) {
   return "";
 }
 
-// A real defect of the seed 002 turning program as testpieces plans it today: after facing B_i
-// the nose is rapided up through the finishing stock of S_i (0.8 mm deep). When testpieces
-// retracts radially first, this test fails: then delete it and drop the exception in
-// test_support.h (GoldenOptions) and below.
-TEST(Safety, TurningPieceRetractsThroughStock) {
-  testpieces::TestPiece piece = Piece("turning");
-  auto p = PostProgram(piece, GcodeOptions::ForDialect(Dialect::kLinuxCnc));
-  ASSERT_FALSE(p.ok()) << "testpieces fixed the turning retract: remove the known-defect exceptions";
-  EXPECT_NE(p.status().message().find("rapid move enters the stock envelope ('raw section S1"), std::string::npos)
-      << p.status().message();
-  EXPECT_NE(p.status().message().find("by 0.800 mm"), std::string::npos) << p.status().message();
-  std::cout << "[safety] turning (known testpieces defect): " << p.status().ToString() << "\n";
-}
-
 TEST(Safety, EveryPieceIsSafeInEveryDialect) {
   for (const auto& pc : testing::AllPieces()) {
-    if (pc.id == "turning") continue;  // TurningPieceRetractsThroughStock
     auto piece = testing::MakePiece(pc);
     ASSERT_TRUE(piece.ok()) << piece.status().ToString();
     for (Dialect d : {Dialect::kFanuc, Dialect::kLinuxCnc, Dialect::kSinumerik, Dialect::kHeidenhain}) {

@@ -512,8 +512,9 @@ struct TurningBuild {
     bcut.radial_feed = true;
     bcut.coord_start_mm = rho_start;
     bcut.coord_end_mm = rho_end;
-    TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState b_up, At(nose(rho_end, z_b + doc + cl), a, 0));
-    program.Rapid(b_up);
+    // Feed back out along the channel the facing pass just cut (not up through the uncut S_i stock).
+    TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState b_out, At(nose(rho_start, z_b), a, 0));
+    program.TurnLinear(b_out, f, rho_end, rho_start, false);
 
     // Side face: axial feed at nose-centre radius r + rn from above the stock down to z_B + rn.
     program.BeginPass(si + " turning", spindle, {si});

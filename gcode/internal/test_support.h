@@ -58,12 +58,6 @@ inline GcodeOptions GoldenOptions(Dialect d, const std::string& id) {
   for (char ch : id) name += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
   o.program_name = name;
   o.date = "2025-01-01";
-  // KNOWN DEFECT of testpieces/turning_piece.cc (reported to the lead): after each bottom-face
-  // facing pass the insert retracts by rapids straight up along the still uncut side-face stock
-  // (`b_up`) and diagonally out (`s_out`), running the nose 0.8 mm deep through it. The rapid
-  // check rejects that program (safety_test.cc, TurningPieceRetractsThroughStock); the proofs of
-  // the turning program below run without the rapid check until testpieces is fixed.
-  if (id == "turning") o.safety.check_rapids = false;
   return o;
 }
 
