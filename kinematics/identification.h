@@ -24,10 +24,13 @@
 //  - jackknife, delete one point: closed-form leave-one-out updates of the linearised solution
 //    (no refit): theta_(i) = theta - (A^T A)^-1 a_i e_i / (1 - h_ii);
 //    u^2 = (n - 1) / n * sum (theta_(i) - mean)^2;
-//  - jackknife, delete one group (feature): block downdate with (I - H_gg)^-1; a group whose
-//    removal makes the system singular leaves the affected coefficients without a group value;
+//  - jackknife, delete one group (feature): block downdate (A^T A - A_g^T A_g)^-1 A_g^T e_g
+//    (Woodbury: no n_g x n_g matrix); a group whose removal makes the system singular leaves the
+//    coefficients without a group value;
 //  - Monte Carlo (GUM Supplement 1): the linearised least-squares map applied to draws of the
-//    point deviations from a scaled-shifted t distribution (nu = n - q) about the fitted values;
+//    point deviations from a scaled-shifted t distribution (nu = n - q) about the fitted values,
+//    drawn in parameter space (the image of n normal deviations is normal with covariance
+//    (A^T A)^-1), so a trial costs O(m^2), not O(n);
 //    u = standard deviation, 95 % interval from the 2.5 / 97.5 % quantiles;
 //  - random subsets (seed 002 section 5, optional): k random points per feature, refitted
 //    (linearised), standard deviation over trials.
