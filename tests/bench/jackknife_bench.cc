@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
     t_refits += Time([&] { run(kinematics::UncertaintyMethod::kAnalytic, false, subset); });
   }
   const double t_naive = t_refits / refits * static_cast<double>(n);
-  std::printf("jackknife_bench: %zu points, %d parameters, single thread CPU time\n", n, active->size());
+  std::printf("jackknife_bench: %zu points, %d parameters, process CPU time (all threads)\n", n, active->size());
   std::printf("%-34s %10.3f s   1.00x\n", "fit (analytic u only)", t_fit);
   std::printf("%-34s %10.3f s  %5.2fx of the fit\n", "fit + jackknife, delete one point", t_jk, t_jk / t_fit);
   std::printf("%-34s %10.3f s  %5.2fx of the fit\n", "fit + jackknife, points and groups", t_jkg, t_jkg / t_fit);
