@@ -81,4 +81,15 @@ Result<Rigid3> ThreeTwoOneDatumFromCmm(const fitting::Plane& primary, const fitt
   return DatumFromAxes(origin, z, x);
 }
 
+Result<Rigid3> TargetsDatumFromCmm(const fitting::Plane& primary, const Eigen::Vector3d& center_mm,
+                                   const Eigen::Vector3d& target_mm, bool target_sets_y) {
+  const Eigen::Vector3d z = primary.normal.normalized();
+  const Eigen::Vector3d origin = center_mm - z * primary.SignedDistance(center_mm);
+  const Eigen::Vector3d to_target = target_mm - origin;
+  // +Y toward the target: +X = Y x Z (right-handed).
+  auto frame = DatumFromAxes(origin, z, target_sets_y ? Eigen::Vector3d(to_target.cross(z)) : to_target);
+  if (!frame.ok()) return frame.status().WithContext("targets datum frame: the target projects onto the origin");
+  return frame;
+}
+
 }  // namespace tpcal::gdt

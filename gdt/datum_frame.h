@@ -50,4 +50,11 @@ Result<Rigid3> TurningDatumFromCmm(const fitting::Plane& primary, const Eigen::V
 Result<Rigid3> ThreeTwoOneDatumFromCmm(const fitting::Plane& primary, const fitting::Line3& secondary,
                                        const Eigen::Vector3d& tertiary_mm);
 
+// Datum-target frame (plan type `targets`): +Z = primary.normal (oriented by the caller), z = 0
+// on `primary`; origin at the foot of `center_mm` on the primary plane; +X (or +Y when
+// `target_sets_y`) points from the origin toward the projection of `target_mm` into the plane.
+// Errors: kDegenerate if the target projects onto the origin.
+Result<Rigid3> TargetsDatumFromCmm(const fitting::Plane& primary, const Eigen::Vector3d& center_mm,
+                                   const Eigen::Vector3d& target_mm, bool target_sets_y);
+
 }  // namespace tpcal::gdt

@@ -75,6 +75,7 @@ class FrameBuilder {
       : plan_(plan), ps_(ps), pts_(pts), options_(options), spec_(*plan.datum_frame) {}
 
   Result<Rigid3> Build() {
+    if (spec_.type == DatumFrameType::kTargets) return BuildTargets();
     auto primary = FitPrimary();
     if (!primary.ok()) return primary.status();
     if (spec_.type == DatumFrameType::kTurning) {
@@ -107,6 +108,47 @@ class FrameBuilder {
   Status FitError(const Status& s, const std::string& feature, const std::string& role) const {
     return Locate(s.WithContext("datum frame: " + role + " '" + feature + "'"), ps_.source,
                   pts_.at(feature).first_line);
+  }
+
+  // Plan type `targets` (gdt/plan.h DatumFrameType::kTargets).
+  Result<Rigid3> BuildTargets() {
+    fitting::Plane primary;
+    if (plan_.FindFeature(spec_.primary)->kind == FeatureKind::kCircle) {
+      auto circle = fitting::FitCircle3(Points(spec_.primary), options_);
+      if (!circle.ok()) return FitError(circle.status(), spec_.primary, "the primary circle");
+      primary.point_mm = circle->feature.center_mm;
+      primary.normal = circle->feature.axis;
+      auto sense = Sense(spec_.z_sense, primary.point_mm, spec_.primary);
+      if (!sense.ok()) return sense.status();
+      auto z = OrientAlong(primary.normal, *sense, "datum Z (primary circle axis)");
+      if (!z.ok()) return PlanError(plan_, spec_.line, z.status().message());
+      primary.normal = *z;
+    } else {
+      auto plane = FitPrimary();
+      if (!plane.ok()) return plane.status();
+      primary = *plane;
+    }
+    auto center = TargetOf(spec_.center, primary, false);
+    if (!center.ok()) return center.status();
+    const bool sets_y = spec_.x_toward.empty();
+    auto target = TargetOf(sets_y ? spec_.y_toward : spec_.x_toward, primary, spec_.toward_first_point);
+    if (!target.ok()) return target.status();
+    auto frame = TargetsDatumFromCmm(primary, *center, *target, sets_y);
+    if (!frame.ok()) return PlanError(plan_, spec_.line, frame.status().message());
+    return frame;
+  }
+
+  // A datum target (CMM frame): the first probed point of `name`, or its centre (circles
+  // projected into `primary`, spheres and points by CentreOf), else the centroid of its points.
+  Result<Eigen::Vector3d> TargetOf(const std::string& name, const fitting::Plane& primary, bool first_point) const {
+    const auto pts = Points(name);
+    if (first_point) return pts.front();
+    switch (plan_.FindFeature(name)->kind) {
+      case FeatureKind::kCircle:
+      case FeatureKind::kSphere:
+      case FeatureKind::kPoint: return CentreOf(name, &primary);
+      default: return Centroid(pts);
+    }
   }
 
   Result<fitting::Plane> FitPrimary() {

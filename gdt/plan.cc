@@ -127,11 +127,24 @@ Status ValidateFeature(const InspectionPlan& plan, const Checker& c, const Featu
 Status ValidateFrame(const Checker& c, const DatumFrameSpec& d) {
   using K = FeatureKind;
   const std::string what = "datum_frame";
-  TPCAL_RETURN_IF_ERROR(c.Ref(d.primary, what + " primary", d.line, {K::kPlane}));
+  const std::initializer_list<K> any = {K::kLine2,    K::kLine3, K::kPlane, K::kCircle,
+                                        K::kCylinder, K::kSphere, K::kCone,  K::kPoint};
+  if (d.type == DatumFrameType::kTargets) {
+    TPCAL_RETURN_IF_ERROR(c.Ref(d.primary, what + " primary", d.line, {K::kPlane, K::kCircle}));
+    TPCAL_RETURN_IF_ERROR(c.Ref(d.center, what + " center", d.line, any));
+    if (d.x_toward.empty() == d.y_toward.empty())
+      return c.Error(d.line, what + " (targets): give exactly one of x_toward and y_toward");
+    const std::string& toward = d.x_toward.empty() ? d.y_toward : d.x_toward;
+    TPCAL_RETURN_IF_ERROR(c.Ref(toward, what + (d.x_toward.empty() ? " y_toward" : " x_toward"), d.line, any));
+  } else {
+    TPCAL_RETURN_IF_ERROR(c.Ref(d.primary, what + " primary", d.line, {K::kPlane}));
+    if (!d.y_toward.empty() || d.toward_first_point)
+      return c.Error(d.line, what + ": y_toward and toward_first_point are for targets frames");
+  }
   if (d.type == DatumFrameType::kTurning) {
     TPCAL_RETURN_IF_ERROR(c.Ref(d.center, what + " center", d.line, {K::kCircle}));
     TPCAL_RETURN_IF_ERROR(c.Ref(d.x_toward, what + " x_toward", d.line, {K::kCircle, K::kPoint, K::kSphere}));
-  } else {
+  } else if (d.type == DatumFrameType::kThreeTwoOne) {
     TPCAL_RETURN_IF_ERROR(c.Ref(d.secondary, what + " secondary", d.line, {K::kLine3}));
     TPCAL_RETURN_IF_ERROR(c.Ref(d.tertiary, what + " tertiary", d.line, {K::kPoint, K::kSphere, K::kCircle}));
   }
@@ -144,8 +157,9 @@ Status ValidateFrame(const Checker& c, const DatumFrameSpec& d) {
   }
   if (d.z_sense.rule == AxisSense::Rule::kPointOrder)
     return c.Error(d.line, what + ": z_sense cannot be point_order (a plane's points have no direction)");
-  if (d.type == DatumFrameType::kTurning && d.x_sense.rule != AxisSense::Rule::kPointOrder)
-    return c.Error(d.line, what + ": x_sense is for 3-2-1 frames; a turning frame's +X points toward x_toward");
+  if (d.type != DatumFrameType::kThreeTwoOne && d.x_sense.rule != AxisSense::Rule::kPointOrder)
+    return c.Error(d.line, what + ": x_sense is for 3-2-1 frames; a " + DatumFrameTypeName(d.type) +
+                               " frame's +X points toward x_toward");
   return Status::Ok();
 }
 
@@ -270,7 +284,12 @@ std::optional<FormCriterion> ParseFormCriterion(std::string_view s) { return Par
 std::optional<CharacteristicType> ParseCharacteristicType(std::string_view s) { return ParseByName(s, kTypes); }
 
 const char* DatumFrameTypeName(DatumFrameType t) {
-  return t == DatumFrameType::kTurning ? "turning" : "3-2-1";
+  switch (t) {
+    case DatumFrameType::kTurning: return "turning";
+    case DatumFrameType::kThreeTwoOne: return "3-2-1";
+    case DatumFrameType::kTargets: return "targets";
+  }
+  return "?";
 }
 
 std::size_t MinPoints(FeatureKind k) {

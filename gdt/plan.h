@@ -94,8 +94,15 @@ enum class DatumFrameType {
   // projected into the primary plane, y = 0 on it; x = 0 at the foot of `tertiary` (point,
   // sphere or circle centre) on that line.
   kThreeTwoOne,
+  // Datum targets (ISO 5459 datum target areas), for pieces whose probed features alone do not
+  // fix a 3-2-1 or turning frame: Z = normal of `primary` (plane) or axis of its 3D LS circle
+  // (circle), z = 0 on it; origin at the centre of `center` (circle / sphere centre, else the
+  // centroid of its probed points); +X (`x_toward`) or +Y (`y_toward`) toward the centre of that
+  // feature, or toward its first probed point with `toward_first_point` (the azimuth of a
+  // surface of revolution, which only the probing order carries).
+  kTargets,
 };
-const char* DatumFrameTypeName(DatumFrameType t);  // "turning", "3-2-1"
+const char* DatumFrameTypeName(DatumFrameType t);  // "turning", "3-2-1", "targets"
 
 struct DatumFrameSpec {
   DatumFrameType type = DatumFrameType::kTurning;
@@ -104,6 +111,8 @@ struct DatumFrameSpec {
   std::string x_toward{};   // kTurning: feature whose centre sets +X
   std::string secondary{};  // kThreeTwoOne: line3 feature
   std::string tertiary{};   // kThreeTwoOne: point / sphere / circle feature
+  std::string y_toward{};   // kTargets: feature whose centre (first point) sets +Y, instead of x_toward
+  bool toward_first_point = false;  // kTargets: aim at the first probed point, not the centre
   AxisSense z_sense{};      // sense of +Z (primary normal)
   AxisSense x_sense{AxisSense::Rule::kPointOrder, {}};  // kThreeTwoOne: sense of +X
   std::size_t line = 0;

@@ -197,7 +197,17 @@ Result<TestPiece> BuildConeFrustumPiece(const PieceConfig& config, const kinemat
     piece.features.push_back(f);
     piece.cuts.push_back({f.name, cut});
   }
-  piece.part_from_datum = Rigid3::Identity();
+  // Datum (ConeFrustumPlan's `targets` frame): +Z along the axis of the CONE_1 section toward
+  // CONE_3, origin at its centre, +X toward its first probed point (azimuth 0, along ref_dir):
+  // a cone of revolution does not fix the azimuth, the probing order does.
+  {
+    const NominalFeature& c1 = piece.features.front();
+    Eigen::Matrix3d r;
+    r.col(0) = c1.ref_dir;
+    r.col(1) = c1.v_dir();
+    r.col(2) = c1.axis;
+    piece.part_from_datum = MakeRigid(r, c1.origin_mm + c1.design_levels_mm[0] * c1.axis);
+  }
   return piece;
 }
 
@@ -205,6 +215,18 @@ gdt::InspectionPlan ConeFrustumPlan(const TestPiece& piece) {
   gdt::InspectionPlan plan;
   plan.source = "<test piece: " + piece.name + ">";
   plan.name = piece.name;
+  {
+    // The datum of BuildConeFrustumPiece's part_from_datum.
+    gdt::DatumFrameSpec frame;
+    frame.type = gdt::DatumFrameType::kTargets;
+    frame.primary = piece.features.front().name;
+    frame.center = frame.primary;
+    frame.x_toward = frame.primary;
+    frame.toward_first_point = true;
+    frame.z_sense.rule = gdt::AxisSense::Rule::kToward;
+    frame.z_sense.feature = piece.features.back().name;
+    plan.datum_frame = frame;
+  }
   for (const NominalFeature& nf : piece.features) {
     gdt::FeatureSpec f;
     f.name = nf.name;

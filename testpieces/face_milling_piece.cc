@@ -125,10 +125,16 @@ Result<TestPiece> BuildFaceMillingPiece(const PieceConfig& config, const kinemat
     piece.features.push_back(f);
     piece.cuts.push_back({f.name, cut});
   }
-  // Datum: the piece's own frame moved to the top face (no datum frame in the plan: the M2
-  // characteristics do not depend on placement).
+  // Datum (FaceMillingPlan's `targets` frame): the top face is all there is to probe, so the
+  // datum targets are the strips' probed patches: z = 0 on the top face, the origin at the
+  // centre of FACE_P1's patch (the centroid of its symmetric probing grid), +Y toward the
+  // centre of the last strip's patch (pass order). One pass leaves X, Y and the rotation about
+  // Z unfixed: then the datum stays the piece frame on the top face and the plan has no frame.
   piece.part_from_datum = Rigid3::Identity();
-  piece.part_from_datum.translation() = Eigen::Vector3d(0, 0, z);
+  const double y_p1 = p.passes > 1 ? 0.5 * (std::max(-half_w, p.PassCenterY(0) - r) +
+                                            std::min(half_w, p.PassCenterY(1) - r))
+                                   : 0.0;
+  piece.part_from_datum.translation() = Eigen::Vector3d(0, y_p1, z);
   return piece;
 }
 
@@ -137,10 +143,22 @@ gdt::InspectionPlan FaceMillingPlan(const TestPiece& piece) {
   gdt::InspectionPlan plan;
   plan.source = "<test piece: " + piece.name + ">";
   plan.name = piece.name;
+  if (p.passes > 1) {
+    // The datum targets of BuildFaceMillingPiece's part_from_datum. +Z along the point normals
+    // (out of the material): the strips are coplanar, no other feature can orient it.
+    gdt::DatumFrameSpec frame;
+    frame.type = gdt::DatumFrameType::kTargets;
+    frame.primary = "FACE_P1";
+    frame.center = "FACE_P1";
+    frame.y_toward = "FACE_P" + std::to_string(p.passes);
+    frame.z_sense.rule = gdt::AxisSense::Rule::kPointNormals;
+    plan.datum_frame = frame;
+  }
   for (int k = 0; k < p.passes; ++k) {
     gdt::FeatureSpec f;
     f.name = "FACE_P" + std::to_string(k + 1);
     f.kind = gdt::FeatureKind::kPlane;
+    f.nominal_direction = Eigen::Vector3d::UnitZ();
     plan.features.push_back(f);
     gdt::CharacteristicSpec c;
     c.name = "flatness_" + f.name;
