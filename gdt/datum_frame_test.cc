@@ -121,5 +121,27 @@ TEST(ThreeTwoOneDatumFromCmm, SecondaryAlongThePrimaryNormalIsDegenerate) {
   EXPECT_EQ(ThreeTwoOneDatumFromCmm(p, l, {1, 1, 1}).status().code(), StatusCode::kDegenerate);
 }
 
+TEST(TargetsDatumFromCmm, YTowardTheSecondTargetOriginOnThePrimary) {
+  // Part frame: primary z = 2 (normal +Z); centre target at (1, -4, 5) -> origin (1, -4, 2);
+  // y target at (1, 30, -1): +Y along part +Y, so datum = part shifted by (1, -4, 2).
+  const fitting::Plane primary_p{{0, 0, 2}, {0, 0, 1}};
+  const Eigen::Vector3d center_p(1, -4, 5), target_p(1, 30, -1);
+  const Rigid3 datum_from_part = MakeRigid(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-1, 4, -2));
+  std::mt19937_64 rng(7);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+    const fitting::Plane primary{cmm_from_part * primary_p.point_mm, cmm_from_part.linear() * primary_p.normal};
+    auto y = TargetsDatumFromCmm(primary, cmm_from_part * center_p, cmm_from_part * target_p, true);
+    ASSERT_TRUE(y.ok());
+    ExpectSameFrame(*y, datum_from_part * cmm_from_part.inverse());
+    // The same target as +X: the frame turned -90 deg about Z (datum X = part Y).
+    auto x = TargetsDatumFromCmm(primary, cmm_from_part * center_p, cmm_from_part * target_p, false);
+    ASSERT_TRUE(x.ok());
+    ExpectSameFrame(*x, MakeRigid(RotZ(-kPi / 2), Eigen::Vector3d::Zero()) * datum_from_part * cmm_from_part.inverse());
+  }
+  EXPECT_EQ(TargetsDatumFromCmm(primary_p, center_p, Eigen::Vector3d(1, -4, 9), true).status().code(),
+            StatusCode::kDegenerate);
+}
+
 }  // namespace
 }  // namespace tpcal::gdt
