@@ -115,7 +115,8 @@ GcodeOptions GcodeOptions::ForDialect(Dialect d) {
   switch (d) {
     case Dialect::kFanuc:
       // Builder M-codes switching the table drive between C-axis and spindle mode: no Fanuc
-      // standard exists; these are placeholders the YAML must set for the machine.
+      // standard exists; M250/M251 are common defaults, set c_spindle.mode_on_mcode and
+      // mode_off_mcode in the post YAML for the machine (gcode/DIALECTS.md).
       o.c_spindle.mode_on_mcode = 250;
       o.c_spindle.mode_off_mcode = 251;
       o.five_axis = FiveAxisMode::kJointInverseTime;
