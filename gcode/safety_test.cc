@@ -9,6 +9,7 @@
 
 #include "core/units.h"
 #include "gcode/internal/test_support.h"
+#include "testpieces/piece_config.h"
 
 namespace tpcal::gcode {
 namespace {
@@ -83,6 +84,39 @@ TEST(Safety, RapidThroughTheStockNamesTheBlock) {
   const std::string line = unchecked->program_text.substr(at + 1, unchecked->program_text.find('\n', at + 1) - at - 1);
   EXPECT_NE(line.find("G00"), std::string::npos) << line;
   EXPECT_NE(line.find("X0."), std::string::npos) << line;
+}
+
+// The retract height is a YAML key of every piece (safe_clearance_mm): the program's rapids
+// climb to top + clearance and pass the rapid check; a clearance that is not positive is refused
+// with its key.
+TEST(Safety, SafeClearanceComesFromTheConfig) {
+  auto machine = kinematics::LoadMachineModel(std::string(TPCAL_SOURCE_DIR) + "/samples/machines/xyz.yaml");
+  ASSERT_TRUE(machine.ok()) << machine.status().ToString();
+  auto highest_rapid_z = [](const testpieces::TestPiece& piece) {
+    double z = -1e9;
+    for (const auto& op : piece.operations) {
+      for (const auto& pass : op.passes) {
+        for (const auto& m : pass.moves) {
+          if (m.kind == testpieces::MoveKind::kRapid) z = std::max(z, m.end.z_mm);
+        }
+      }
+    }
+    return z;
+  };
+  for (double clearance_mm : {25.0, 40.0}) {
+    auto config = testpieces::ParsePieceConfig(
+        "piece: iso10791_m2\niso10791_m2:\n  safe_clearance_mm: " + std::to_string(clearance_mm) + "\n", "<m2.yaml>");
+    ASSERT_TRUE(config.ok()) << config.status().ToString();
+    auto piece = testpieces::MakeTestPiece(*config, *machine);
+    ASSERT_TRUE(piece.ok()) << piece.status().ToString();
+    const double top_mm = std::get<testpieces::FaceMillingPieceParams>(config->params).height_mm;
+    EXPECT_NEAR(highest_rapid_z(*piece), top_mm + clearance_mm, 1e-9) << clearance_mm;
+    auto p = PostProgram(*piece, GcodeOptions::ForDialect(Dialect::kFanuc));
+    ASSERT_TRUE(p.ok()) << p.status().ToString();
+  }
+  auto low = testpieces::ParsePieceConfig("piece: iso10791_m2\niso10791_m2:\n  safe_clearance_mm: -1\n", "<m2.yaml>");
+  ASSERT_FALSE(low.ok());
+  EXPECT_NE(low.status().message().find("safe_clearance_mm"), std::string::npos) << low.status().message();
 }
 
 TEST(Safety, StrokeViolationNamesAxisAndBlock) {

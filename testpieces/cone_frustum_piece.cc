@@ -27,6 +27,7 @@ Status ConeFrustumParams::Validate() const {
                          Named{"height_mm", height_mm}, Named{"end_mill_diameter_mm", end_mill_diameter_mm},
                          Named{"cutting_speed_m_per_min", cutting_speed_m_per_min},
                          Named{"feed_per_tooth_mm", feed_per_tooth_mm}, Named{"tip_clearance_mm", tip_clearance_mm},
+                         Named{"safe_clearance_mm", safe_clearance_mm},
                          Named{"probe_band_margin_mm", probe_band_margin_mm}}) {
     if (!(std::isfinite(n.value) && n.value > 0)) return BadCone(n.key, n.value, "must be a positive number");
   }
@@ -102,7 +103,7 @@ Result<TestPiece> BuildConeFrustumPiece(const PieceConfig& config, const kinemat
   const double flute = (p.height_mm - h_tip) / std::cos(cone.half_angle_rad) + 5.0;
 
   ProgramBuilder program(config.process);
-  const double z_safe = p.base_thickness_mm + p.height_mm + 60.0;
+  const double z_safe = p.base_thickness_mm + p.height_mm + p.safe_clearance_mm;
   {
     kinematics::AxisState home;
     home.z_mm = z_safe;

@@ -78,7 +78,7 @@ Status ContourPieceParams::Validate() const {
                          Named{"slope_large_angle_deg", slope_large_angle_deg}, Named{"slope_height_mm", slope_height_mm},
                          Named{"bore_diameter_mm", bore_diameter_mm}, Named{"end_mill_diameter_mm", end_mill_diameter_mm},
                          Named{"cutting_speed_m_per_min", cutting_speed_m_per_min},
-                         Named{"feed_per_tooth_mm", feed_per_tooth_mm}}) {
+                         Named{"feed_per_tooth_mm", feed_per_tooth_mm}, Named{"safe_clearance_mm", safe_clearance_mm}}) {
     if (!(std::isfinite(n.value) && n.value > 0)) return BadM1(n.key, n.value, "must be a positive number");
   }
   if (end_mill_teeth < 1) return BadM1("end_mill_teeth", end_mill_teeth, "must be >= 1");
@@ -274,7 +274,7 @@ struct ContourBuild {
     const double z_di = z_sq + p.diamond_height_mm;
     const double z_ci = z_di + p.circle_height_mm;
     const double z_top = z_ci + p.slope_height_mm;
-    z_safe = z_top + 25.0;
+    z_safe = z_top + p.safe_clearance_mm;
     {
       kinematics::AxisState home;
       home.z_mm = z_safe;

@@ -31,7 +31,7 @@ Status FaceMillingPieceParams::Validate() const {
   struct Named { const char* key; double value; };
   for (const Named& n : {Named{"face_mill_diameter_mm", face_mill_diameter_mm}, Named{"length_mm", length_mm},
                          Named{"height_mm", height_mm}, Named{"cutting_speed_m_per_min", cutting_speed_m_per_min},
-                         Named{"feed_per_tooth_mm", feed_per_tooth_mm}}) {
+                         Named{"feed_per_tooth_mm", feed_per_tooth_mm}, Named{"safe_clearance_mm", safe_clearance_mm}}) {
     if (!(std::isfinite(n.value) && n.value > 0)) return BadM2(n.key, n.value, "must be a positive number");
   }
   if (face_mill_teeth < 1) return BadM2("face_mill_teeth", face_mill_teeth, "must be >= 1");
@@ -57,7 +57,7 @@ Result<TestPiece> BuildFaceMillingPiece(const PieceConfig& config, const kinemat
   piece.machine = machine;
   ProgramBuilder program(config.process);
   const double z = p.height_mm, r = 0.5 * p.face_mill_diameter_mm;
-  const double z_safe = z + 25.0;
+  const double z_safe = z + p.safe_clearance_mm;
   {
     kinematics::AxisState home;
     home.z_mm = z_safe;

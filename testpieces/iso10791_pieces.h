@@ -40,6 +40,7 @@ struct ContourPieceParams {
   double cutting_speed_m_per_min = 200.0;
   double feed_per_tooth_mm = 0.05;
   double probe_height_fraction = 0.5;  // side faces probed at this fraction of the layer height
+  double safe_clearance_mm = 25.0;     // rapid (retract) height above the top of the piece
 
   // Defaults of size 320 scaled by size / 320 (sizes 160 and 320 are the standard's).
   static ContourPieceParams ForSize(double size_mm);
@@ -65,6 +66,7 @@ struct FaceMillingPieceParams {
   double cutting_speed_m_per_min = 300.0;
   double feed_per_tooth_mm = 0.08;
   double run_out_mm = 5.0;           // the cutter clears the block ends by this at start / end
+  double safe_clearance_mm = 25.0;   // rapid (retract) height above the top face
 
   Status Validate() const;
   // Width of the block along Y: passes * D - (passes - 1) * overlap * D - 2 * edge clearance.
@@ -91,6 +93,8 @@ struct ConeFrustumParams {
   double tip_clearance_mm = 1.0;     // tool end stays this far above the base top
   int path_steps = 720;              // linear segments of the five-axis pass (0.5 deg)
   double probe_band_margin_mm = 2.0; // probing circles kept this far inside the machined band
+  // Rapid (retract) height above the cone top: the tilted tool must clear the cone at every A/C.
+  double safe_clearance_mm = 60.0;
 
   Status Validate() const;
 };

@@ -70,6 +70,7 @@ Table<TurningPieceParams> TurningTable() {
       {"turning_tool.reach_mm", &T::turning_tool_reach_mm},
       {"turning_tool.shank_width_mm", &T::turning_shank_width_mm},
       {"approach_clearance_mm", &T::approach_clearance_mm},
+      {"safe_clearance_mm", &T::safe_clearance_mm},
   };
 }
 
@@ -102,6 +103,7 @@ Table<ContourPieceParams> ContourTable() {
       {"end_mill.cutting_speed_m_per_min", &T::cutting_speed_m_per_min},
       {"end_mill.feed_per_tooth_mm", &T::feed_per_tooth_mm},
       {"probe_height_fraction", &T::probe_height_fraction},
+      {"safe_clearance_mm", &T::safe_clearance_mm},
   };
 }
 
@@ -119,6 +121,7 @@ Table<FaceMillingPieceParams> FaceMillingTable() {
       {"height_mm", &T::height_mm},
       {"edge_clearance_mm", &T::edge_clearance_mm},
       {"run_out_mm", &T::run_out_mm},
+      {"safe_clearance_mm", &T::safe_clearance_mm},
   };
 }
 
@@ -139,6 +142,7 @@ Table<ConeFrustumParams> ConeTable() {
       {"tip_clearance_mm", &T::tip_clearance_mm},
       {"path_steps", &T::path_steps},
       {"probe_band_margin_mm", &T::probe_band_margin_mm},
+      {"safe_clearance_mm", &T::safe_clearance_mm},
   };
 }
 

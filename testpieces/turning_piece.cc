@@ -10,7 +10,6 @@ namespace tpcal::testpieces {
 namespace {
 
 constexpr double kMinClearance_mm = 0.5;  // tool-to-stock clearance accepted as collision free
-constexpr double kSafeAbove_mm = 25.0;    // retract height above the part for rapid moves
 
 Status Bad(const std::string& key, double value, const std::string& why) {
   std::ostringstream os;
@@ -69,7 +68,8 @@ Status TurningPieceParams::Validate() const {
                          Named{"turning_tool.max_table_rpm", turning_max_table_rpm},
                          Named{"turning_tool.reach_mm", turning_tool_reach_mm},
                          Named{"turning_tool.shank_width_mm", turning_shank_width_mm},
-                         Named{"approach_clearance_mm", approach_clearance_mm}}) {
+                         Named{"approach_clearance_mm", approach_clearance_mm},
+                         Named{"safe_clearance_mm", safe_clearance_mm}}) {
     if (!positive(n.value)) return Bad(n.key, n.value, "must be a positive number");
   }
   for (const Named& n : {Named{"groove.bottom_z_mm", groove_bottom_z_mm}, Named{"base.bottom_z_mm", base_bottom_z_mm},
@@ -576,7 +576,7 @@ Result<TestPiece> BuildTurningPiece(const PieceConfig& config, const kinematics:
   b.piece.part_from_datum = Rigid3::Identity();
   b.piece.part_from_datum.translation() = Eigen::Vector3d(0, 0, p.groove_bottom_z_mm);
   // Machine Z above the part in both setups (A = 0: the top face; A = -90: the flange radius).
-  b.z_safe_mm = std::max(p.top_z_mm(), p.base_radius_mm) + kSafeAbove_mm;
+  b.z_safe_mm = std::max(p.top_z_mm(), p.base_radius_mm) + p.safe_clearance_mm;
   {
     kinematics::AxisState home;
     home.z_mm = b.z_safe_mm;

@@ -99,6 +99,9 @@ struct TurningPieceParams {
   double turning_tool_reach_mm = 300.0;     // holder reach below the spindle (A = 0 faces)
   double turning_shank_width_mm = 25.0;     // holder width along part Z (A = -90 faces)
   double approach_clearance_mm = 2.0;       // feed moves start this far from the stock
+  // Rapid (retract) height of machine Z above the part in both setups (A = 0: above the top
+  // face; A = -90: above the flange radius).
+  double safe_clearance_mm = 25.0;
 
   // Checks values, ordering, and machinability: the reamer fits the hole, the groove is wider
   // than the end mill and clear of the holes, every A = 0 turned face is reachable from above
