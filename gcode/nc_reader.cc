@@ -12,27 +12,8 @@ namespace {
 
 using internal::LexBlock;
 using internal::LexedBlock;
-
-std::string Trim(std::string_view s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return std::string(s.substr(a, b - a));
-}
-
-std::vector<std::string> Lines(std::string_view text) {
-  std::vector<std::string> out;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    std::string l(text.substr(pos, eol - pos));
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    out.push_back(l);
-    pos = eol + 1;
-  }
-  return out;
-}
+using internal::Lines;
+using internal::Trim;
 
 double ToD(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace tpcal::gcode::internal {
@@ -24,6 +25,29 @@ struct LexedBlock {
   bool comment_only = false;
   std::string error;                  // lexical error, "" if none
 };
+
+// `s` without leading and trailing white space.
+inline std::string Trim(std::string_view s) {
+  std::size_t a = 0, b = s.size();
+  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
+  return std::string(s.substr(a, b - a));
+}
+
+// The lines of a program (LF or CRLF line ends; the CR is dropped), in order.
+inline std::vector<std::string> Lines(std::string_view text) {
+  std::vector<std::string> out;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string l(text.substr(pos, eol - pos));
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    out.push_back(std::move(l));
+    pos = eol + 1;
+  }
+  return out;
+}
 
 inline bool IsNumberText(const std::string& s) {
   if (s.empty()) return false;
