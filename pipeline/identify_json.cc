@@ -1,6 +1,7 @@
 #include "pipeline/identify_json.h"
 
 #include "kinematics/machine_model.h"
+#include "pipeline/identification_blocks.h"
 #include "pipeline/json_util.h"
 #include "pipeline/seed002_items.h"
 
@@ -37,60 +38,10 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json Interval(double lo, double hi) { return Json::array({lo, hi}); }
-
-Json ParameterJson(const kinematics::ParameterEstimate& p) {
-  Json j;
-  j["name"] = p.name;
-  j["iso_symbol"] = p.iso_symbol;
-  j["identifiable"] = p.identifiable;
-  j["unit"] = p.unit;
-  if (p.identifiable) {
-    j["value"] = p.value;
-    j["u"] = p.u;
-    j["ci95"] = Interval(p.ci95_low, p.ci95_high);
-  } else {
-    j["value"] = nullptr;
-    j["u"] = nullptr;
-    j["ci95"] = nullptr;
-  }
-  Json u = Json::object();
-  for (const auto& m : p.uncertainties) {
-    Json e;
-    if (m.available && p.identifiable) {
-      e["u"] = m.u;
-      e["ci95"] = Interval(m.ci95_low, m.ci95_high);
-    } else {
-      e["u"] = nullptr;
-      e["ci95"] = nullptr;
-    }
-    if (!m.message.empty()) e["message"] = m.message;
-    u[kinematics::UncertaintyMethodName(m.method)] = e;
-  }
-  j["uncertainty"] = u;
-  return j;
-}
-
-Json CombinationJson(const kinematics::Combination& c, const std::string& unit) {
-  Json j;
-  j["combination"] = c.text;
-  j["names"] = c.names;
-  j["coefficients"] = c.coefficients;
-  j["value"] = c.value;
-  j["u"] = c.u;
-  j["unit"] = unit;
-  return j;
-}
-
 }  // namespace
 
 std::string IdentificationJson(const IdentificationReport& report) {
   const auto& id = report.stage.identification;
-  std::map<std::string, std::string> unit_of;
-  for (const auto& p : id.parameters) unit_of[p.name] = p.unit;
-  auto unit_of_combo = [&](const kinematics::Combination& c) {
-    return c.names.empty() ? std::string() : unit_of[c.names.front()];
-  };
   Json j;
   j["schema"] = "tpcal.identification/1";
   j["testpiece"] = report.testpiece;
@@ -100,27 +51,11 @@ std::string IdentificationJson(const IdentificationReport& report) {
   j["n_features"] = id.num_groups;
   j["solver"] = "point-level least squares through the kinematic chain (Ceres), 6-DOF alignment nuisance";
   Json params = Json::array();
-  for (const auto& p : id.parameters) params.push_back(ParameterJson(p));
+  for (const auto& p : id.parameters) params.push_back(ParameterEstimateJson(p));
   j["parameters"] = params;
 
-  const auto& ident = id.identifiability;
-  Json idj;
-  idj["num_parameters"] = ident.num_parameters;
-  idj["rank"] = ident.rank;
-  idj["condition_number"] = ident.condition_number;
-  idj["singular_values"] = ident.singular_values;
-  idj["not_identifiable"] = ident.not_identifiable;
-  Json est = Json::array();
-  for (const auto& c : ident.estimable) est.push_back(CombinationJson(c, unit_of_combo(c)));
-  idj["estimable"] = est;
-  Json nul = Json::array();
-  for (const auto& c : ident.null_directions) nul.push_back(c.text);
-  idj["null_directions"] = nul;
-  j["identifiability"] = idj;
-
-  j["fit"] = {{"rms_before_um", id.rms_before_um}, {"rms_after_um", id.rms_after_um},
-              {"sigma_um", id.sigma_um},           {"iterations", id.iterations},
-              {"termination", id.termination}};
+  j["identifiability"] = IdentifiabilityJson(id);
+  j["fit"] = IdentificationFitJson(id);
   j["alignment"] = RigidJson(id.alignment);
 
   if (report.closed_form) {

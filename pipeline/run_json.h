@@ -8,16 +8,14 @@
 //   "input": {"points", "format", "digest_xxh64", "num_points", "source_units"},
 //   "piece": "...", "machine": "...",
 //   "inspection": {... tpcal.fit/1 (fit_json.h) ...},
-//   "identification": {
-//     "parameters": [{"name", "iso_symbol", "unit", "identifiable", "value" (null if not
-//        identifiable), "u", "ci95": [lo, hi], "primary_method",
-//        "uncertainties": {"analytic": {"available", "u", "ci95", "message"}, ...},
+//   "identification": {... the blocks of tpcal.identification/1 (identify_json.h,
+//     identification_blocks.h) under the same keys: "n_points", "n_features",
+//     "parameters": [{"name", "iso_symbol", "identifiable", "unit", "value", "u", "ci95",
+//        "uncertainty": {"analytic": {"u", "ci95"}, ...}, "primary_method",
 //        "truth" (only with a stated truth)}],
-//     "identifiability": {"num_parameters", "rank", "condition_number", "singular_values",
-//        "not_identifiable", "estimable": [{"text", "names", "coefficients", "value", "u"}],
-//        "null_directions": [...]},
-//     "num_observations", "num_groups", "rms_before_um", "rms_after_um", "sigma_um",
-//     "iterations", "termination", "alignment": {"rotation", "translation_mm"}},
+//     "identifiability": {..., "estimable": [{"combination", ...}], "null_directions": [...]},
+//     "fit": {"rms_before_um", "rms_after_um", "sigma_um", "iterations", "termination"},
+//     "alignment": {"rotation", "translation_mm"}},
 //   "figures": ["machine_errors", ...],
 //   "diagnosis": {... tpcal.diagnosis/1 (contracts README section 4, diagnosis_json.h) ...}
 //                (or {"error": "..."} when it could not be made; absent with diagnose: false)

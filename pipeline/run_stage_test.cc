@@ -132,13 +132,14 @@ TEST(RunStage, JsonFollowsTheSchemaAndIsDeterministic) {
   const auto& params = j.at("identification").at("parameters");
   ASSERT_EQ(params.size(), r.stage.identification.parameters.size());
   for (const auto& p : params) {
-    for (const char* key : {"name", "iso_symbol", "unit", "identifiable", "value", "u", "ci95", "uncertainties"})
+    for (const char* key : {"name", "iso_symbol", "unit", "identifiable", "value", "u", "ci95", "uncertainty",
+                            "primary_method"})
       EXPECT_TRUE(p.contains(key)) << key;
     if (p.at("identifiable").get<bool>()) {
       EXPECT_TRUE(p.at("value").is_number());
       EXPECT_EQ(p.at("ci95").size(), 2u);
       for (const char* m : {"analytic", "jackknife_points", "jackknife_groups", "monte_carlo"})
-        EXPECT_TRUE(p.at("uncertainties").contains(m)) << m;
+        EXPECT_TRUE(p.at("uncertainty").contains(m)) << m;
     } else {
       EXPECT_TRUE(p.at("value").is_null());
     }
@@ -147,6 +148,15 @@ TEST(RunStage, JsonFollowsTheSchemaAndIsDeterministic) {
   for (const char* key : {"num_parameters", "rank", "condition_number", "singular_values", "not_identifiable",
                           "estimable", "null_directions"})
     EXPECT_TRUE(j.at("identification").at("identifiability").contains(key)) << key;
+  // The blocks of tpcal.identification/1 under the same keys (identification_blocks.h).
+  for (const auto& c : j.at("identification").at("identifiability").at("estimable")) {
+    for (const char* key : {"combination", "names", "coefficients", "value", "u", "unit"})
+      EXPECT_TRUE(c.contains(key)) << key;
+  }
+  for (const char* key : {"rms_before_um", "rms_after_um", "sigma_um", "iterations", "termination"})
+    EXPECT_TRUE(j.at("identification").at("fit").contains(key)) << key;
+  for (const char* key : {"n_points", "n_features", "alignment"})
+    EXPECT_TRUE(j.at("identification").contains(key)) << key;
 
   // Same inputs and seed: the same bytes (a fresh run, not the cached one).
   auto again = RunPipeline(SampleConfig());

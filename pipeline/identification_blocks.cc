@@ -1,0 +1,81 @@
+#include "pipeline/identification_blocks.h"
+
+#include <map>
+#include <string>
+
+namespace tpcal::pipeline {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json Interval(double lo, double hi) { return Json::array({lo, hi}); }
+
+}  // namespace
+
+Json ParameterEstimateJson(const kinematics::ParameterEstimate& p) {
+  Json j;
+  j["name"] = p.name;
+  j["iso_symbol"] = p.iso_symbol;
+  j["identifiable"] = p.identifiable;
+  j["unit"] = p.unit;
+  if (p.identifiable) {
+    j["value"] = p.value;
+    j["u"] = p.u;
+    j["ci95"] = Interval(p.ci95_low, p.ci95_high);
+  } else {
+    j["value"] = nullptr;
+    j["u"] = nullptr;
+    j["ci95"] = nullptr;
+  }
+  Json u = Json::object();
+  for (const auto& m : p.uncertainties) {
+    Json e;
+    if (m.available && p.identifiable) {
+      e["u"] = m.u;
+      e["ci95"] = Interval(m.ci95_low, m.ci95_high);
+    } else {
+      e["u"] = nullptr;
+      e["ci95"] = nullptr;
+    }
+    if (!m.message.empty()) e["message"] = m.message;
+    u[kinematics::UncertaintyMethodName(m.method)] = e;
+  }
+  j["uncertainty"] = u;
+  return j;
+}
+
+Json IdentifiabilityJson(const kinematics::IdentificationResult& id) {
+  std::map<std::string, std::string> unit_of;
+  for (const auto& p : id.parameters) unit_of[p.name] = p.unit;
+  const auto& ident = id.identifiability;
+  Json idj;
+  idj["num_parameters"] = ident.num_parameters;
+  idj["rank"] = ident.rank;
+  idj["condition_number"] = ident.condition_number;
+  idj["singular_values"] = ident.singular_values;
+  idj["not_identifiable"] = ident.not_identifiable;
+  Json est = Json::array();
+  for (const auto& c : ident.estimable) {
+    Json e;
+    e["combination"] = c.text;
+    e["names"] = c.names;
+    e["coefficients"] = c.coefficients;
+    e["value"] = c.value;
+    e["u"] = c.u;
+    e["unit"] = c.names.empty() ? std::string() : unit_of[c.names.front()];
+    est.push_back(std::move(e));
+  }
+  idj["estimable"] = std::move(est);
+  Json nul = Json::array();
+  for (const auto& c : ident.null_directions) nul.push_back(c.text);
+  idj["null_directions"] = std::move(nul);
+  return idj;
+}
+
+Json IdentificationFitJson(const kinematics::IdentificationResult& id) {
+  return {{"rms_before_um", id.rms_before_um}, {"rms_after_um", id.rms_after_um},
+          {"sigma_um", id.sigma_um},           {"iterations", id.iterations},
+          {"termination", id.termination}};
+}
+
+}  // namespace tpcal::pipeline
