@@ -13,6 +13,7 @@
 #include "gdt/inspection.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/seed002_closed_form.h"
+#include "pipeline/identify_json.h"
 #include "pipeline/seed002_items.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
@@ -86,6 +87,46 @@ TEST(Seed002ClosedForm, RoundTripThroughTheSimulator) {
       EXPECT_NEAR(p.value, truth.at(p.name), 0.01 * 50.0 + 0.01) << p.name << " trial " << trial;
     }
   }
+}
+
+// Solver (a) and solver (b) on the same simulated point file (random Table 2 errors, 0.5 um CMM
+// noise, random placement): both recover the truth and agree with each other. Solver (b)'s u
+// (analytic, k = 1) sets the scale; solver (a) uses only the GD&T items (fewer degrees of
+// freedom, no u of its own), so each is held to 6 u_b + 1 um/urad of the truth (its noise
+// propagated through eqs. 10-27 with lever arms of ~100 mm is a few u_b) and to each other.
+TEST(Seed002ClosedForm, BothSolversAgreeOnOnePointFile) {
+  const auto machine = AcTable();
+  std::mt19937_64 rng(5005);
+  const auto truth = test_support::RandomTable2(rng);
+  testpieces::PieceSimOptions o;
+  o.random_placement = true;
+  o.noise_um = 0.5;
+  o.seed = 23;
+  auto sim = testpieces::SimulatePiece(Turning(), machine, test_support::ToErrorState(truth), o);
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  IdentifyStageOptions options;
+  options.identify.primary = kinematics::UncertaintyMethod::kAnalytic;
+  options.identify.jackknife_groups = false;
+  auto report = BuildIdentificationReport(Turning(), machine, sim->points, options);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  ASSERT_TRUE(report->closed_form.has_value());
+  std::map<std::string, const kinematics::ParameterEstimate*> point_level;
+  for (const auto& p : report->stage.identification.parameters) point_level[p.name] = &p;
+  std::printf("\n%-14s %9s %11s %11s %8s\n", "parameter", "truth", "solver (a)", "solver (b)", "u (b)");
+  int compared = 0;
+  for (const auto& a : report->closed_form->parameters) {
+    auto it = point_level.find(a.name);
+    ASSERT_NE(it, point_level.end()) << a.name;
+    const kinematics::ParameterEstimate& b = *it->second;
+    ASSERT_TRUE(a.identifiable && b.identifiable) << a.name;
+    std::printf("%-14s %9.2f %11.2f %11.2f %8.3f\n", a.name.c_str(), truth.at(a.name), a.value, b.value, b.u);
+    const double tol = 6.0 * b.u + 1.0;
+    EXPECT_NEAR(b.value, truth.at(a.name), 6.0 * b.u + 0.01) << a.name;
+    EXPECT_NEAR(a.value, truth.at(a.name), tol) << a.name;
+    EXPECT_NEAR(a.value, b.value, tol) << a.name;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 11);
 }
 
 // Seed 002 Table 1, column "Measured on finished test piece" (um, urad); the same numbers as
