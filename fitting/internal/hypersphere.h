@@ -54,9 +54,11 @@ class HypersphereModel {
     return a;
   }
   Vec ToScaled(const Vec& p_mm) const { return (p_mm - origin_) * inv_scale_; }
+  double ToScaledCoordinate(const Vec& p_mm, int t) const { return (p_mm[t] - origin_[t]) * inv_scale_; }
   Vec ToMm(const Vec& q) const { return origin_ + q * scale_; }
 
   Linearization<kParams> Linearize(const State& s, double* residuals_mm, Eigen::MatrixXd* jacobian) const {
+    if (jacobian == nullptr) return LinearizeBlocks(s, residuals_mm);
     const Vec c = s.center;
     const double radius = s.radius;
     return LinearizeRows<kParams>(
@@ -72,6 +74,68 @@ class HypersphereModel {
           j[D] = -1.0;
         },
         scale_, residuals_mm, jacobian, PVec::Ones());
+  }
+
+  // The same sums as Linearize without a Jacobian, computed per block of kSumBlock points as
+  // whole-array operations (coordinates gathered into columns, then square roots, reciprocals
+  // and the D (D + 1) / 2 + 2 D + 2 distinct sums vectorised): J^T J and J^T r follow from
+  // j = (-(q - c)/rho, -1), so no per-point Jacobian row is formed. Block totals are added with
+  // Neumaier compensation, as BlockSums does.
+  Linearization<kParams> LinearizeBlocks(const State& s, double* __restrict residuals_mm) const {
+    using Block = Eigen::Array<double, Eigen::Dynamic, 1, 0, static_cast<int>(kSumBlock), 1>;
+    constexpr int kSums = D * (D + 1) / 2 + 2 * D + 2;  // sum j_t j_u (t <= u), sum j_t, sum j_t r, sum r, sum r^2
+    std::array<NeumaierSum, kSums> total{};
+    const std::size_t n = points_.size();
+    double r_min = std::numeric_limits<double>::infinity();
+    double r_max = -r_min;
+    std::array<Block, D> q;
+    Block rho, inv, r;
+    for (std::size_t b = 0; b < n; b += kSumBlock) {
+      const auto m = static_cast<Eigen::Index>(std::min(n, b + kSumBlock) - b);
+      for (int t = 0; t < D; ++t) {
+        q[t].resize(m);
+        const double o = origin_[t], c = s.center[t];
+        for (Eigen::Index i = 0; i < m; ++i) q[t][i] = (points_[b + static_cast<std::size_t>(i)][t] - o) * inv_scale_ - c;
+      }
+      rho = q[0].square();
+      for (int t = 1; t < D; ++t) rho += q[t].square();
+      rho = rho.sqrt();
+      // d r / d c = -(q - c)/|q - c|; at the centre itself any unit vector is a subgradient,
+      // zero keeps the sums finite.
+      inv = (rho > 0.0).select(rho.inverse(), 0.0);
+      r = rho - s.radius;
+      for (int t = 0; t < D; ++t) q[t] *= -inv;  // now j_t
+      std::array<double, kSums> acc;
+      int k = 0;
+      for (int t = 0; t < D; ++t) {
+        for (int u = t; u < D; ++u) acc[static_cast<std::size_t>(k++)] = (q[t] * q[u]).sum();
+      }
+      for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] = q[t].sum();
+      for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] = (q[t] * r).sum();
+      acc[static_cast<std::size_t>(k++)] = r.sum();
+      acc[static_cast<std::size_t>(k)] = r.square().sum();
+      for (std::size_t a = 0; a < acc.size(); ++a) total[a].Add(acc[a]);
+      r_min = std::min(r_min, r.minCoeff());
+      r_max = std::max(r_max, r.maxCoeff());
+      if (residuals_mm != nullptr) {
+        Eigen::Map<Eigen::ArrayXd>(residuals_mm + b, m) = r * scale_;
+      }
+    }
+    // Assemble with j_D = -1 for the radius: J^T J = [[S_jj, -S_j], [-S_j^T, n]],
+    // J^T r = [S_jr, -S_r], cost = S_rr.
+    Linearization<kParams> lin;
+    int k = 0;
+    for (int t = 0; t < D; ++t) {
+      for (int u = t; u < D; ++u) lin.jtj(t, u) = lin.jtj(u, t) = total[static_cast<std::size_t>(k++)].Total();
+    }
+    for (int t = 0; t < D; ++t) lin.jtj(t, D) = lin.jtj(D, t) = -total[static_cast<std::size_t>(k++)].Total();
+    lin.jtj(D, D) = static_cast<double>(n);
+    for (int t = 0; t < D; ++t) lin.jtr[t] = total[static_cast<std::size_t>(k++)].Total();
+    lin.jtr[D] = -total[static_cast<std::size_t>(k++)].Total();
+    lin.cost = total[static_cast<std::size_t>(k)].Total();
+    lin.r_min = r_min;
+    lin.r_max = r_max;
+    return lin;
   }
 
   State Retract(const State& s, const PVec& delta) const {
@@ -107,25 +171,33 @@ Result<typename HypersphereModel<D>::State> HyperStart(const HypersphereModel<D>
   using KVec = Eigen::Matrix<double, K, 1>;
   constexpr std::size_t kSums = K * (K + 1) / 2;
   const std::size_t m = (points_mm.size() + stride - 1) / stride;
-  const auto sums = BlockSums<kSums>(m, [&](std::size_t k) {
-    const Vec q = model.ToScaled(points_mm[k * stride]);
-    // Scalars, not an Eigen vector: its packet store and the scalar reloads stall.
-    std::array<double, K> z;
-    z[0] = q.squaredNorm();
-    for (int t = 0; t < D; ++t) z[static_cast<std::size_t>(t + 1)] = q[t];
-    z[K - 1] = 1.0;
-    std::array<double, kSums> a;
-    std::size_t t = 0;
-    for (int r = 0; r < K; ++r) {
-      for (int c = r; c < K; ++c) a[t++] = z[r] * z[c];
+  // Moments of z = (|q|^2, q, 1) per block of kSumBlock points as whole-array operations
+  // (coordinates gathered into columns; vectorised products and sums), block totals with
+  // Neumaier compensation as in BlockSums. The (1, 1) moment is the count.
+  using Block = Eigen::Array<double, Eigen::Dynamic, 1, 0, static_cast<int>(kSumBlock), 1>;
+  std::array<NeumaierSum, kSums> total{};
+  std::array<Block, K - 1> z;  // |q|^2, q_0 .. q_{D-1}
+  for (std::size_t b = 0; b < m; b += kSumBlock) {
+    const auto len = static_cast<Eigen::Index>(std::min(m, b + kSumBlock) - b);
+    for (int t = 0; t < D; ++t) {
+      Block& col = z[static_cast<std::size_t>(t + 1)];
+      col.resize(len);
+      for (Eigen::Index i = 0; i < len; ++i) col[i] = model.ToScaledCoordinate(points_mm[(b + static_cast<std::size_t>(i)) * stride], t);
     }
-    return a;
-  });
+    z[0] = z[1].square();
+    for (int t = 1; t < D; ++t) z[0] += z[static_cast<std::size_t>(t + 1)].square();
+    std::size_t t = 0;
+    for (int r = 0; r < K - 1; ++r) {
+      for (int c = r; c < K - 1; ++c) total[t++].Add((z[static_cast<std::size_t>(r)] * z[static_cast<std::size_t>(c)]).sum());
+      total[t++].Add(z[static_cast<std::size_t>(r)].sum());
+    }
+    total[t].Add(static_cast<double>(len));
+  }
   KMat mom;
   {
     std::size_t t = 0;
     for (int r = 0; r < K; ++r) {
-      for (int c = r; c < K; ++c, ++t) mom(r, c) = mom(c, r) = sums[t] / static_cast<double>(m);
+      for (int c = r; c < K; ++c, ++t) mom(r, c) = mom(c, r) = total[t].Total() / static_cast<double>(m);
     }
   }
   const char* name = HypersphereName(D);

@@ -186,12 +186,17 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
   const PVec jac_mm_scale = JacobianMmScale(model);
   LmRun<Model> run;
   run.state = std::move(start);
-  std::vector<double> trial_residuals;
-  if (options.keep_residuals) {
-    run.residuals_mm.resize(n);
-    trial_residuals.resize(n);
-  }
-  run.lin = model.Linearize(run.state, options.keep_residuals ? run.residuals_mm.data() : nullptr, nullptr);
+  // Residuals are written by the pass of each trial state straight into run.residuals_mm (no
+  // second buffer): they are current when the last trial was accepted. Only a run that ends on a
+  // state whose residuals were not written last (no step accepted, or a rejected trial after the
+  // last accepted one) pays one more pass for them.
+  if (options.keep_residuals) run.residuals_mm.resize(n);
+  bool residuals_current = false;
+  auto finish = [&]() -> LmRun<Model>& {
+    if (options.keep_residuals && !residuals_current) model.Linearize(run.state, run.residuals_mm.data(), nullptr);
+    return run;
+  };
+  run.lin = model.Linearize(run.state, nullptr, nullptr);
   if (!std::isfinite(run.lin.cost) || !run.lin.jtj.allFinite()) {
     return Status(StatusCode::kDegenerate, "non-finite residuals at the start point (degenerate geometry)");
   }
@@ -245,7 +250,7 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
       os << "converged after " << run.iterations << " iterations, last step " << run.last_step
          << " (relative/rad) <= tolerance " << options.step_tolerance_mm;
       run.message = os.str();
-      return run;
+      return std::move(finish());
     }
     if (run.last_step <= kRoundingFloorStep && run.last_step > 0.5 * previous_step) {
       run.termination = Termination::kConverged;
@@ -253,7 +258,7 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
       os << "converged after " << run.iterations << " iterations at the rounding floor: step " << run.last_step
          << " (relative/rad) no longer shrinks (tolerance " << options.step_tolerance_mm << ")";
       run.message = os.str();
-      return run;
+      return std::move(finish());
     }
     if (it > options.max_iterations) break;
     previous_step = run.last_step;
@@ -266,11 +271,12 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
       if (lambda == 0.0 && gn_ok) ok = true;
       if (ok) {
         auto trial = model.Retract(run.state, step);
-        auto lin = model.Linearize(trial, options.keep_residuals ? trial_residuals.data() : nullptr, nullptr);
+        auto lin = model.Linearize(trial, options.keep_residuals ? run.residuals_mm.data() : nullptr, nullptr);
+        residuals_current = false;
         if (std::isfinite(lin.cost) && lin.jtj.allFinite() && lin.cost <= run.lin.cost + cost_noise) {
           run.state = std::move(trial);
           run.lin = lin;
-          std::swap(run.residuals_mm, trial_residuals);
+          residuals_current = true;
           lambda = lambda < 1e-9 ? 0.0 : 0.1 * lambda;
           accepted = true;
           break;
@@ -287,7 +293,7 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
         os << "converged after " << run.iterations << " iterations: the cost no longer decreases, step "
            << run.last_step << " (relative/rad)";
         run.message = os.str();
-        return run;
+        return std::move(finish());
       }
       std::ostringstream os;
       os << "Levenberg-Marquardt cannot decrease the cost after " << run.iterations
@@ -301,7 +307,7 @@ Result<LmRun<Model>> RunLm(const Model& model, typename Model::State start, cons
   if (run.last_step > kNearlyConvergedStep) return Status(StatusCode::kNotConverged, os.str());
   run.termination = Termination::kMaxIterations;
   run.message = os.str();
-  return run;
+  return std::move(finish());
 }
 
 // The fields of a FitResult that every least-squares fitter fills the same way.
