@@ -169,7 +169,7 @@ class Registration {
   Rigid3 Icp(Rigid3 part_from_cmm, const std::vector<std::size_t>& indices,
              const std::vector<double>& gates_mm) const {
     for (double gate : gates_mm) {
-      for (int iter = 0; iter < 10; ++iter) {
+      for (int iter = 0; iter < 6; ++iter) {
         Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Zero();
         Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
         int used = 0;
@@ -186,7 +186,7 @@ class Registration {
         a.diagonal().array() += 1e-9 * a.trace() + 1e-12;
         const Eigen::Matrix<double, 6, 1> d = -a.ldlt().solve(b);
         part_from_cmm = Twist(d) * part_from_cmm;
-        if (d.head<3>().norm() < 1e-8 && d.tail<3>().norm() < 1e-6) break;
+        if (d.head<3>().norm() < 1e-7 && d.tail<3>().norm() < 1e-5) break;  // 0.1 urad, 10 nm
       }
     }
     return part_from_cmm;
@@ -390,7 +390,6 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
 
   // ---- refinement of the best distinct candidates ----
-  const std::vector<double> gates_mm = {20.0, 10.0, 5.0, 2.0, 1.0, 0.5};
   const double fine_range_deg = options.coarse_step_deg;
   std::vector<Rigid3> starts;
   for (const auto& c : candidates) {
@@ -448,16 +447,24 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
     return t;
   };
 
-  std::optional<Refined> best;
+  // Quick ICP of every start on the scoring subsample; the two best go on to the fine sweep.
+  std::vector<Candidate> quick;
   for (const Rigid3& start : starts) {
-    Rigid3 t = reg.Icp(start, icp_idx, gates_mm);
-    // Fine sweep about each nominal principal axis to seat symmetry-breaking features.
-    Rigid3 best_t = t;
-    int best_score = reg.Score(t, coarse_idx, options.coarse_tolerance_mm);
+    const Rigid3 t = reg.Icp(start, coarse_idx, {20.0, 10.0, 5.0, 2.0});
+    quick.push_back({t, reg.Score(t, coarse_idx, options.coarse_tolerance_mm)});
+  }
+  std::stable_sort(quick.begin(), quick.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  if (quick.size() > 2) quick.resize(2);
+  std::optional<Refined> best;
+  for (const Candidate& q : quick) {
+    // Fine sweep about each nominal principal axis to seat symmetry-breaking features (holes).
+    Rigid3 best_t = q.part_from_cmm;
+    int best_score = q.score;
     for (int j = 0; j < 3; ++j) {
       for (double a_deg = -fine_range_deg; a_deg <= fine_range_deg + 1e-9; a_deg += 1.0) {
         if (a_deg == 0.0) continue;
-        const Rigid3 s = RotationAbout(model.axes.col(j), model.centroid_mm, a_deg * kDegToRad) * t;
+        const Rigid3 s =
+            RotationAbout(model.axes.col(j), model.centroid_mm, a_deg * kDegToRad) * q.part_from_cmm;
         const int sc = reg.Score(s, coarse_idx, options.coarse_tolerance_mm);
         if (sc > best_score) {
           best_score = sc;
@@ -465,7 +472,7 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
         }
       }
     }
-    t = exact_icp(reg.Icp(best_t, icp_idx, {5.0, 2.0, 1.0, 0.5}));
+    const Rigid3 t = exact_icp(reg.Icp(reg.Icp(best_t, coarse_idx, {5.0, 2.0}), icp_idx, {1.0, 0.5}));
     Refined r = label_all(t);
     if (!best || r.labelled > best->labelled || (r.labelled == best->labelled && r.rms_mm < best->rms_mm))
       best = std::move(r);

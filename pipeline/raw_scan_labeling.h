@@ -15,7 +15,7 @@
 //     candidate is scored on a subsample by the fraction of points within `coarse_tolerance_mm` of
 //     the tangent plane of their nearest nominal sample with agreeing normals.
 //  3. Refinement: point-to-plane ICP (Gauss-Newton on a 6-dof twist) from the best distinct
-//     candidates, with a shrinking correspondence gate; then a fine sweep of +/- coarse_step_deg
+//     candidates, with a shrinking correspondence gate; for the best two, a fine sweep of +/- coarse_step_deg
 //     in 1 degree steps about each principal axis (to seat features that break a rotational
 //     symmetry, e.g. holes), ICP again, and three ICP steps against the exact nominal surfaces
 //     (testpieces::ProjectOnto of the labelled feature).
@@ -53,9 +53,10 @@ struct RawScanLabelingOptions {
   double normal_tolerance_deg = 30.0;  // scan normal vs nominal normal (ignored without normals)
   double coarse_step_deg = 10.0;       // rotation sweep step of the coarse search
   double coarse_tolerance_mm = 2.0;    // inlier distance when scoring coarse candidates
-  int coarse_sample_points = 400;      // scan points used to score candidates
-  int icp_sample_points = 4000;        // scan points used by ICP
-  int refine_candidates = 4;           // distinct coarse candidates refined by ICP
+  int coarse_sample_points = 300;      // scan points used to score candidates (and quick ICP)
+  int icp_sample_points = 2000;        // scan points used by the final ICP
+  int refine_candidates = 4;           // distinct coarse candidates refined by a quick ICP (the
+                                       // best two by a fine sweep and full ICP)
   int neighbours = 8;                  // nominal samples consulted per point when labelling
   double min_labelled_fraction = 0.9;  // below this the registration is declared failed
   double max_rms_um = 100.0;           // RMS distance of labelled points above this: failed
