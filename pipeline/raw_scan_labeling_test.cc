@@ -9,6 +9,7 @@
 #include <random>
 
 #include "kinematics/error_state.h"
+#include "pipeline/point_io.h"
 #include "pipeline/run_config.h"
 #include "testpieces/simulate_piece.h"
 
@@ -82,6 +83,7 @@ void ExpectRecovered(const Rigid3& cmm_from_datum, bool with_normals = true) {
   }
   const double fraction = static_cast<double>(correct) / static_cast<double>(scan.size());
   EXPECT_GE(fraction, kMinCorrectFraction) << r->BriefReport();
+  ::testing::Test::RecordProperty("correct_fraction", std::to_string(fraction));
   EXPECT_EQ(r->symmetry_order, 16) << r->message;  // 16 holes
   // part_from_cmm = part_from_datum * datum_from_cmm.
   const Rigid3 expected = s.datum_from_part.inverse() * cmm_from_datum.inverse();
@@ -173,6 +175,34 @@ TEST(RawScanLabeling, OptionsAreValidated) {
   o.label_tolerance_mm = 0.0;
   EXPECT_EQ(o.Validate().code(), StatusCode::kInvalidArgument);
 }
+
+// The other bundled samples with their labels removed: the labelling gives back the lab's labels.
+class RawScanBundledSample : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RawScanBundledSample, LabelsComeBack) {
+  const std::string dir = std::string(TPCAL_SOURCE_DIR) + "/samples/";
+  const std::string name = GetParam();
+  auto file = ReadPoints(dir + name + "/cmm_points.csv");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  auto setup = LoadRunPiece(name == "m1" ? "iso10791_m1" : "turning", "");
+  ASSERT_TRUE(setup.ok()) << setup.status().ToString();
+  PointSet scan = *file;
+  scan.feature.assign(scan.size(), PointSet::kUnlabelled);
+  auto r = LabelRawScan(setup->piece, scan);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  std::size_t correct = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const int f = r->piece_feature[i];
+    if (f != PointSet::kUnlabelled && setup->piece.features[static_cast<std::size_t>(f)].name ==
+                                          file->feature_names[static_cast<std::size_t>(file->feature[i])])
+      ++correct;
+  }
+  const double fraction = static_cast<double>(correct) / static_cast<double>(scan.size());
+  ::testing::Test::RecordProperty("correct_fraction", std::to_string(fraction));
+  EXPECT_GE(fraction, kMinCorrectFraction) << r->BriefReport() << "\n" << r->message;
+}
+
+INSTANTIATE_TEST_SUITE_P(RawScanLabeling, RawScanBundledSample, ::testing::Values("turning", "m1"));
 
 }  // namespace
 }  // namespace tpcal::pipeline
