@@ -37,7 +37,8 @@ struct NominalModel {
   std::shared_ptr<pcl::KdTreeFLANN<pcl::PointXYZ>> tree;
   Vector3d centroid_mm = Vector3d::Zero();
   Matrix3d axes = Matrix3d::Identity();  // principal axes (columns), proper rotation
-  Vector3d bbox_centre_mm = Vector3d::Zero();  // axis-aligned bounding box centre, part frame
+  Matrix3d normal_axes = Matrix3d::Identity();  // principal axes of the normals' orientation tensor
+  Vector3d centre_mm = Vector3d::Zero();  // QuantileCentre of the samples, part frame
 
   // Indices of the k nearest samples to q (part frame).
   void Nearest(const Vector3d& q, int k, std::vector<int>* idx, std::vector<float>* d2) const {
@@ -76,6 +77,36 @@ std::vector<std::size_t> Stride(std::size_t n, std::size_t want) {
   return out;
 }
 
+// Principal axes (columns, right-handed) of the orientation tensor sum(n n^T) of unit normals:
+// for a turned part the axis is one of them whatever the points' positions.
+Matrix3d NormalAxes(const std::vector<Vector3d>& normals) {
+  Matrix3d t = Matrix3d::Zero();
+  for (const auto& n : normals) t += n * n.transpose();
+  Eigen::SelfAdjointEigenSolver<Matrix3d> es(t);
+  Matrix3d v = es.eigenvectors();
+  if (v.determinant() < 0) v.col(2) = -v.col(2);
+  return v;
+}
+
+// Per axis, the midpoint of the kCentreQuantile and 1 - kCentreQuantile quantiles: a centre
+// that a few percent of stray points (fixture, dust) on one side do not move, unlike the
+// bounding box, and that does not depend on the density as the centroid does.
+constexpr double kCentreQuantile = 0.05;
+Vector3d QuantileCentre(const std::vector<Vector3d>& pts) {
+  Vector3d c;
+  std::vector<double> v(pts.size());
+  const auto lo = static_cast<std::ptrdiff_t>(kCentreQuantile * static_cast<double>(pts.size() - 1));
+  const auto hi = static_cast<std::ptrdiff_t>((1.0 - kCentreQuantile) * static_cast<double>(pts.size() - 1));
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < pts.size(); ++i) v[i] = pts[i][a];
+    std::nth_element(v.begin(), v.begin() + lo, v.end());
+    const double q_lo = v[static_cast<std::size_t>(lo)];
+    std::nth_element(v.begin(), v.begin() + hi, v.end());
+    c[a] = 0.5 * (q_lo + v[static_cast<std::size_t>(hi)]);
+  }
+  return c;
+}
+
 Result<NominalModel> BuildNominal(const testpieces::TestPiece& piece, const testpieces::ProbingOptions& density) {
   auto plan = testpieces::MakeProbingPlan(piece, density);
   if (!plan.ok()) return plan.status().WithContext("nominal sampling for raw-scan labelling");
@@ -97,12 +128,8 @@ Result<NominalModel> BuildNominal(const testpieces::TestPiece& piece, const test
   m.tree = std::make_shared<pcl::KdTreeFLANN<pcl::PointXYZ>>();
   m.tree->setInputCloud(cloud);
   Principal(m.p_part_mm, Stride(m.p_part_mm.size(), 0), &m.centroid_mm, &m.axes);
-  Vector3d lo = m.p_part_mm[0], hi = m.p_part_mm[0];
-  for (const auto& p : m.p_part_mm) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  m.bbox_centre_mm = 0.5 * (lo + hi);
+  m.normal_axes = NormalAxes(m.n_part);
+  m.centre_mm = QuantileCentre(m.p_part_mm);
   return m;
 }
 
@@ -346,14 +373,19 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
   Registration reg(model, scan, options);
   Labeler labeler(piece, model, options);
 
-  // ---- coarse: principal frames, rotation sweeps, bounding-box centres ----
+  // ---- coarse: principal frames, rotation sweeps, robust centres ----
   const auto all = Stride(scan.size(), 0);
   const auto coarse_idx = Stride(scan.size(), static_cast<std::size_t>(options.coarse_sample_points));
   const auto icp_idx = Stride(scan.size(), static_cast<std::size_t>(options.icp_sample_points));
-  const auto bbox_idx = Stride(scan.size(), 5000);
+  const auto centre_idx = Stride(scan.size(), 5000);
   Vector3d scan_centroid;
   Matrix3d scan_axes;
   Principal(scan.xyz_mm, all, &scan_centroid, &scan_axes);
+  // Frame pairs (nominal, scan) whose matching gives candidate rotations: the points' principal
+  // axes, and with normals the normals' orientation tensor (not moved by stray points whose
+  // normals follow the piece's, e.g. a fixture plate under a turned part).
+  std::vector<std::pair<Matrix3d, Matrix3d>> frames = {{model.axes, scan_axes}};
+  if (scan.has_normals()) frames.emplace_back(model.normal_axes, NormalAxes(scan.normal));
 
   struct Candidate {
     Rigid3 part_from_cmm;
@@ -361,27 +393,25 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
   };
   std::vector<Candidate> candidates;
   const int steps = static_cast<int>(std::lround(360.0 / options.coarse_step_deg));
-  for (int j = 0; j < 3; ++j) {
-    for (int flip = 0; flip < 2; ++flip) {
-      Vector3d signs = Vector3d::Ones();
-      if (flip) {
-        signs[j] = -1;
-        signs[(j + 1) % 3] = -1;
-      }
-      const Matrix3d r0 = model.axes * signs.asDiagonal() * scan_axes.transpose();
-      for (int k = 0; k < steps; ++k) {
-        const Matrix3d r =
-            Eigen::AngleAxisd(2.0 * std::numbers::pi * k / steps, model.axes.col(j)).toRotationMatrix() * r0;
-        Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
-        for (std::size_t i : bbox_idx) {
-          const Vector3d p = r * scan.xyz_mm[i];
-          lo = lo.cwiseMin(p);
-          hi = hi.cwiseMax(p);
+  std::vector<Vector3d> rotated(centre_idx.size());
+  for (const auto& [nominal_axes, scan_frame] : frames) {
+    for (int j = 0; j < 3; ++j) {
+      for (int flip = 0; flip < 2; ++flip) {
+        Vector3d signs = Vector3d::Ones();
+        if (flip) {
+          signs[j] = -1;
+          signs[(j + 1) % 3] = -1;
         }
-        Rigid3 t = Rigid3::Identity();
-        t.linear() = r;
-        t.translation() = model.bbox_centre_mm - 0.5 * (lo + hi);
-        candidates.push_back({t, reg.Score(t, coarse_idx, options.coarse_tolerance_mm)});
+        const Matrix3d r0 = nominal_axes * signs.asDiagonal() * scan_frame.transpose();
+        for (int k = 0; k < steps; ++k) {
+          const Matrix3d r =
+              Eigen::AngleAxisd(2.0 * std::numbers::pi * k / steps, nominal_axes.col(j)).toRotationMatrix() * r0;
+          for (std::size_t i = 0; i < centre_idx.size(); ++i) rotated[i] = r * scan.xyz_mm[centre_idx[i]];
+          Rigid3 t = Rigid3::Identity();
+          t.linear() = r;
+          t.translation() = model.centre_mm - QuantileCentre(rotated);
+          candidates.push_back({t, reg.Score(t, coarse_idx, options.coarse_tolerance_mm)});
+        }
       }
     }
   }

@@ -1,3 +1,7 @@
+
+
+
+
 // Raw-scan labelling on simulated scans of the turning test piece (truth: the simulator's labels
 // and placement): random, identity and upside-down placements, no normals, and garbage input.
 #include "pipeline/raw_scan_labeling.h"
@@ -139,6 +143,47 @@ TEST(RawScanLabeling, PointsOffThePieceAreRejected) {
   EXPECT_GE(r->num_rejected, scan.size() - n_true);
 }
 
+// A real scan also covers surfaces the piece does not inspect: here 20 % more points on the top
+// face (between the groove and the holes) and 10 % on a fixture plate beside the base, off to
+// one side. They are rejected; the features' points are labelled as without them.
+TEST(RawScanLabeling, UninspectedSurfacesAreRejected) {
+  const Simulated& s = Scan();
+  const auto& params = std::get<testpieces::TurningPieceParams>(s.piece.config.params);
+  PointSet scan = s.scan_datum;
+  const std::size_t n_true = scan.size();
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi), ring(121.0, 133.0);
+  std::uniform_real_distribution<double> plate_x(200.0, 260.0), plate_y(-30.0, 30.0);
+  const Eigen::Vector3d up_datum = s.datum_from_part.linear() * Eigen::Vector3d::UnitZ();
+  auto add = [&](const Eigen::Vector3d& p_part) {
+    scan.xyz_mm.push_back(s.datum_from_part * p_part);
+    scan.normal.push_back(up_datum);
+    scan.feature.push_back(PointSet::kUnlabelled);
+  };
+  for (std::size_t i = 0; i < n_true / 5; ++i) {
+    const double a = angle(rng), r = ring(rng);
+    add({r * std::cos(a), r * std::sin(a), params.top_z_mm()});
+  }
+  for (std::size_t i = 0; i < n_true / 10; ++i) add({plate_x(rng), plate_y(rng), params.base_bottom_z_mm});
+  const Rigid3 cmm_from_datum = MakeRigid(RotX(2.2) * RotZ(0.4), Eigen::Vector3d(-120.0, 35.0, 80.0));
+  PointSet placed = Placed(scan, cmm_from_datum);
+  auto r = LabelRawScan(s.piece, placed);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  std::size_t correct = 0, clutter_labelled = 0;
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const int f = r->piece_feature[i];
+    if (i >= n_true) {
+      if (f != PointSet::kUnlabelled) ++clutter_labelled;
+      continue;
+    }
+    if (f != PointSet::kUnlabelled && s.piece.features[static_cast<std::size_t>(f)].name ==
+                                          s.scan_datum.feature_names[static_cast<std::size_t>(s.scan_datum.feature[i])])
+      ++correct;
+  }
+  EXPECT_GE(static_cast<double>(correct) / static_cast<double>(n_true), kMinCorrectFraction) << r->BriefReport();
+  EXPECT_EQ(clutter_labelled, 0u) << r->BriefReport();
+}
+
 TEST(RawScanLabeling, RandomPointsAreAClearError) {
   const Simulated& s = Scan();
   PointSet garbage;
@@ -156,6 +201,7 @@ TEST(RawScanLabeling, RandomPointsAreAClearError) {
   EXPECT_EQ(r.status().code(), StatusCode::kNotConverged);
   EXPECT_EQ(r.status().file(), "garbage_scan.csv");
   EXPECT_NE(r.status().message().find("registration"), std::string::npos) << r.status().ToString();
+  ::testing::Test::RecordProperty("message", r.status().ToString());
 }
 
 TEST(RawScanLabeling, TooFewPoints) {
