@@ -245,6 +245,7 @@ TEST_P(RawScanBundledSample, LabelsComeBack) {
   }
   const double fraction = static_cast<double>(correct) / static_cast<double>(scan.size());
   ::testing::Test::RecordProperty("correct_fraction", std::to_string(fraction));
+  ::testing::Test::RecordProperty("labelling", r->BriefReport() + " | " + r->message);
   EXPECT_GE(fraction, kMinCorrectFraction) << r->BriefReport() << "\n" << r->message;
 }
 
