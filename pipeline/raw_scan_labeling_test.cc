@@ -8,7 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
 #include <numbers>
 #include <random>
 
@@ -141,6 +144,47 @@ TEST(RawScanLabeling, PointsOffThePieceAreRejected) {
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   for (std::size_t i = n_true; i < scan.size(); ++i) EXPECT_EQ(r->piece_feature[i], PointSet::kUnlabelled) << i;
   EXPECT_GE(r->num_rejected, scan.size() - n_true);
+}
+
+// Rows in random order (a scanner, not a CMM program): the file order no longer tells H1 from the
+// other 15 holes. Every point still gets its feature up to that symmetry: the turned faces and
+// the groove exactly, and the points of each physical hole one common hole label, a different
+// one per hole (a rotation of the true labels).
+TEST(RawScanLabeling, ShuffledScanIsLabelledUpToTheHoleSymmetry) {
+  const Simulated& s = Scan();
+  std::vector<std::size_t> order(s.scan_datum.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::mt19937_64 rng(17);
+  std::shuffle(order.begin(), order.end(), rng);
+  PointSet shuffled = s.scan_datum;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    shuffled.xyz_mm[i] = s.scan_datum.xyz_mm[order[i]];
+    shuffled.normal[i] = s.scan_datum.normal[order[i]];
+    shuffled.feature[i] = s.scan_datum.feature[order[i]];
+  }
+  PointSet placed = Placed(shuffled, MakeRigid(RotY(2.5) * RotZ(1.1), Eigen::Vector3d(40.0, -70.0, 15.0)));
+  auto r = LabelRawScan(s.piece, placed);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  std::map<std::string, std::set<std::string>> given_for_true_hole;  // true hole -> labels given
+  std::set<std::string> hole_labels_given;
+  std::size_t non_hole = 0, non_hole_correct = 0;
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const std::string& truth = shuffled.feature_names[static_cast<std::size_t>(shuffled.feature[i])];
+    const int f = r->piece_feature[i];
+    const std::string given = f == PointSet::kUnlabelled ? "" : s.piece.features[static_cast<std::size_t>(f)].name;
+    if (truth[0] == 'H') {
+      given_for_true_hole[truth].insert(given);
+      hole_labels_given.insert(given);
+    } else {
+      ++non_hole;
+      if (given == truth) ++non_hole_correct;
+    }
+  }
+  EXPECT_GE(static_cast<double>(non_hole_correct) / static_cast<double>(non_hole), kMinCorrectFraction);
+  EXPECT_EQ(given_for_true_hole.size(), 16u);
+  for (const auto& [hole, given] : given_for_true_hole) EXPECT_EQ(given.size(), 1u) << hole;
+  EXPECT_EQ(hole_labels_given.size(), 16u);  // one distinct hole label per hole
+  EXPECT_EQ(hole_labels_given.count(""), 0u);
 }
 
 // A real scan also covers surfaces the piece does not inspect: here 20 % more points on the top
