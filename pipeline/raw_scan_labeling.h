@@ -65,7 +65,7 @@ struct RawScanLabelingOptions {
   // ~0.1 %, a correct placement of a clean simulated scan 100 %.
   double min_labelled_fraction = 0.5;
   double max_rms_um = 100.0;           // RMS distance of labelled points above this: failed
-  std::size_t min_points = 50;
+  std::size_t min_points = 20;
   // Density of the nominal sampling (part frame): many points per circle and levels so that
   // every scanned point has samples of its feature within a few mm.
   testpieces::ProbingOptions nominal_density = DefaultNominalDensity();

@@ -293,6 +293,40 @@ TEST_P(RawScanBundledSample, LabelsComeBack) {
   EXPECT_GE(fraction, kMinCorrectFraction) << r->BriefReport() << "\n" << r->message;
 }
 
+// Every kind of test piece: its default probing plan, simulated without machine errors in a
+// random placement (any orientation), labels stripped, is labelled as simulated.
+class RawScanEveryPiece : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RawScanEveryPiece, DefaultPlanInRandomPlacement) {
+  auto setup = LoadRunPiece(GetParam(), "");
+  ASSERT_TRUE(setup.ok()) << setup.status().ToString();
+  kinematics::ErrorState errors(setup->machine);
+  testpieces::PieceSimOptions o;
+  o.noise_um = 0.5;
+  o.seed = 23;
+  o.random_placement = true;
+  auto sim = testpieces::SimulatePiece(setup->piece, setup->machine, errors, o);
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  PointSet scan = sim->points;
+  scan.feature.assign(scan.size(), PointSet::kUnlabelled);
+  auto r = LabelRawScan(setup->piece, scan);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  std::size_t correct = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const int f = r->piece_feature[i];
+    if (f != PointSet::kUnlabelled && setup->piece.features[static_cast<std::size_t>(f)].name ==
+                                          sim->points.feature_names[static_cast<std::size_t>(sim->points.feature[i])])
+      ++correct;
+  }
+  const double fraction = static_cast<double>(correct) / static_cast<double>(scan.size());
+  ::testing::Test::RecordProperty("correct_fraction", std::to_string(fraction));
+  ::testing::Test::RecordProperty("labelling", r->BriefReport() + " | " + r->message);
+  EXPECT_GE(fraction, kMinCorrectFraction) << r->BriefReport() << "\n" << r->message;
+}
+
+INSTANTIATE_TEST_SUITE_P(RawScanLabeling, RawScanEveryPiece,
+                         ::testing::Values("turning", "iso10791_m1", "iso10791_m2", "cone_frustum"));
+
 INSTANTIATE_TEST_SUITE_P(RawScanLabeling, RawScanBundledSample, ::testing::Values("turning", "m1"));
 
 }  // namespace
