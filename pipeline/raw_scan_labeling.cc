@@ -11,6 +11,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <thread>
 
 #include "testpieces/probing_plan.h"
 
@@ -25,6 +26,8 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 // nominal surface of some feature (exact geometry in double: far below any real deviation).
 constexpr double kSymmetryTol_mm = 1e-3;
 constexpr int kMaxSymmetryOrder = 64;
+// Label on several threads from this many points on.
+constexpr std::size_t kParallelPoints = 20000;
 // Nearest nominal sample farther than this: no correspondence (the default nominal sampling
 // spaces levels up to ~20 mm apart on the tallest turned face).
 constexpr double kNeighbourGate_mm = 20.0;
@@ -435,18 +438,35 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
     std::size_t labelled = 0;
     double rms_mm = 0.0;
   };
-  auto label_all = [&](const Rigid3& t) {
+  // Labels of scan points `indices` (others stay unlabelled) at placement t. Large sets are split
+  // over threads (each point's label depends on that point only; sums are taken in order after).
+  auto label_points = [&](const Rigid3& t, const std::vector<std::size_t>& indices) {
     Refined out{t, std::vector<PointLabel>(scan.size()), 0, 0.0};
-    double ss = 0.0;
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const Vector3d q = t * scan.xyz_mm[i];
-      Vector3d n;
-      if (scan.has_normals()) n = t.linear() * scan.normal[i];
-      out.labels[i] = labeler.Label(q, scan.has_normals() ? &n : nullptr, options.label_tolerance_mm);
-      if (out.labels[i].feature != PointSet::kUnlabelled) {
-        ++out.labelled;
-        ss += out.labels[i].distance_mm * out.labels[i].distance_mm;
+    auto work = [&](std::size_t begin, std::size_t end) {
+      Labeler local(piece, model, options);  // per-thread query buffers
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::size_t i = indices[k];
+        const Vector3d q = t * scan.xyz_mm[i];
+        Vector3d n;
+        if (scan.has_normals()) n = t.linear() * scan.normal[i];
+        out.labels[i] = local.Label(q, scan.has_normals() ? &n : nullptr, options.label_tolerance_mm);
       }
+    };
+    const std::size_t threads =
+        indices.size() < kParallelPoints ? 1 : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
+    if (threads == 1) {
+      work(0, indices.size());
+    } else {
+      std::vector<std::thread> pool;
+      for (std::size_t c = 0; c < threads; ++c)
+        pool.emplace_back(work, indices.size() * c / threads, indices.size() * (c + 1) / threads);
+      for (auto& th : pool) th.join();
+    }
+    double ss = 0.0;
+    for (std::size_t i : indices) {
+      if (out.labels[i].feature == PointSet::kUnlabelled) continue;
+      ++out.labelled;
+      ss += out.labels[i].distance_mm * out.labels[i].distance_mm;
     }
     out.rms_mm = out.labelled ? std::sqrt(ss / static_cast<double>(out.labelled)) : 0.0;
     return out;
@@ -503,11 +523,12 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
       }
     }
     const Rigid3 t = exact_icp(reg.Icp(reg.Icp(best_t, coarse_idx, {5.0, 2.0}), icp_idx, {1.0, 0.5}));
-    Refined r = label_all(t);
+    Refined r = label_points(t, icp_idx);  // the choice between candidates: on the ICP subsample
     if (!best || r.labelled > best->labelled || (r.labelled == best->labelled && r.rms_mm < best->rms_mm))
       best = std::move(r);
   }
   if (!best) return Status(StatusCode::kInternal, "raw-scan labelling: no candidate placement", source);
+  if (icp_idx.size() < scan.size()) best = label_points(best->part_from_cmm, all);
 
   const double fraction = static_cast<double>(best->labelled) / static_cast<double>(scan.size());
   if (fraction < options.min_labelled_fraction || best->rms_mm * 1e3 > options.max_rms_um)
