@@ -503,7 +503,8 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
     const Rigid3 t = reg.Icp(start, coarse_idx, {20.0, 10.0, 5.0, 2.0});
     quick.push_back({t, reg.Score(t, coarse_idx, options.coarse_tolerance_mm)});
   }
-  std::stable_sort(quick.begin(), quick.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::stable_sort(quick.begin(), quick.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
   if (quick.size() > 2) quick.resize(2);
   std::optional<Refined> best;
   for (const Candidate& q : quick) {
@@ -603,7 +604,8 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
     }
     out.labelled.attributes.push_back(std::move(b));
   }
-  for (std::size_t f = 0; f < piece.features.size(); ++f) out.counts.push_back({piece.features[f].name, per_feature[f]});
+  for (std::size_t f = 0; f < piece.features.size(); ++f)
+    out.counts.push_back({piece.features[f].name, per_feature[f]});
   out.num_rejected = scan.size() - best->labelled;
   out.labelled_fraction = fraction;
   out.rms_distance_um = 1e3 * std::sqrt(ss / static_cast<double>(best->labelled));

@@ -17,10 +17,11 @@
 //     Each candidate is scored on a subsample by the number of points within
 //     `coarse_tolerance_mm` of the tangent plane of their nearest nominal sample, normals agreeing.
 //  3. Refinement: point-to-plane ICP (Gauss-Newton on a 6-dof twist) from the best distinct
-//     candidates, with a shrinking correspondence gate; for the best two, a fine sweep of +/- coarse_step_deg
-//     in 1 degree steps about each principal axis (to seat features that break a rotational
-//     symmetry, e.g. holes), ICP again, and three ICP steps against the exact nominal surfaces
-//     (testpieces::ProjectOnto of the labelled feature).
+//     candidates, with a shrinking correspondence gate; for the best two, a fine sweep of
+//     +/- coarse_step_deg in 1 degree steps about each principal axis (to seat features that
+//     break a rotational symmetry, e.g. holes), ICP again, and three ICP steps against the exact
+//     nominal surfaces (testpieces::ProjectOnto of the labelled feature). The candidate labelling
+//     more points of the ICP subsample wins.
 //  4. Labelling: for each point, the features of its `neighbours` nearest nominal samples are
 //     candidates; the point takes the candidate whose exact surface is nearest, provided the
 //     distance is <= label_tolerance_mm, the projection lies in the feature's patch and (when the
@@ -32,6 +33,8 @@
 //     (a CMM program scans features in plan order, H1 first). RawScanLabeling::symmetry_order says
 //     when this rule was needed; a scan in random point order gets a consistent but arbitrary
 //     choice among the equivalent labellings.
+// Cost: a fixed ~0.3 s (nominal sampling of ~45k points, 432 coarse candidates) plus ~4 us per
+// point, labelled on all cores from 20000 points. Deterministic (no randomness).
 // Failure: kTooFewPoints (fewer than min_points), kNotConverged when the best placement labels
 // less than min_labelled_fraction of the points or their RMS distance exceeds max_rms_um (the
 // scan is not this piece, or the part is too far from nominal). Messages name the scan's source.

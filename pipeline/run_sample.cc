@@ -84,8 +84,8 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         return At(path, kv.first,
                   "unknown key '" + key +
                       "' (expected schema, description, testpiece, machine, seed, noise_um, probe_radius_error_um, "
-                      "random_placement, points_per_circle, points_per_hole, levels_per_face, levels_per_hole, raw_scan, "
-                      "errors)");
+                      "random_placement, points_per_circle, points_per_hole, levels_per_face, levels_per_hole, "
+                      "raw_scan, errors)");
       }
     } catch (const YAML::Exception&) {
       return At(path, v, "'" + key + "': wrong type");
