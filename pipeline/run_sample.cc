@@ -72,6 +72,8 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         t.levels_per_face = v.as<int>();
       } else if (key == "levels_per_hole") {
         t.levels_per_hole = v.as<int>();
+      } else if (key == "raw_scan") {
+        t.raw_scan = v.as<bool>();
       } else if (key == "errors") {
         if (!v.IsMap()) return At(path, v, "'errors': expected a tpcal.errors/1 map");
         YAML::Emitter e;
@@ -82,7 +84,8 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         return At(path, kv.first,
                   "unknown key '" + key +
                       "' (expected schema, description, testpiece, machine, seed, noise_um, probe_radius_error_um, "
-                      "random_placement, points_per_circle, points_per_hole, levels_per_face, levels_per_hole, errors)");
+                      "random_placement, points_per_circle, points_per_hole, levels_per_face, levels_per_hole, "
+                      "raw_scan, errors)");
       }
     } catch (const YAML::Exception&) {
       return At(path, v, "'" + key + "': wrong type");
@@ -108,6 +111,15 @@ Result<SimulatedSample> SimulateSample(const SampleTruth& truth) {
   auto simulated = testpieces::SimulatePiece(setup->piece, setup->machine, *errors, sim);
   if (!simulated.ok()) return simulated.status();
   return SimulatedSample{std::move(*setup), std::move(*errors), std::move(*simulated)};
+}
+
+PointSet SampleExportPoints(const SampleTruth& truth, const SimulatedSample& sample) {
+  PointSet out = sample.simulated.points;
+  if (truth.raw_scan) {
+    out.feature.assign(out.size(), PointSet::kUnlabelled);
+    out.feature_names.clear();
+  }
+  return out;
 }
 
 std::map<std::string, double> TruthValues(const kinematics::ErrorState& errors,

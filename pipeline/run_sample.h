@@ -15,6 +15,8 @@
 //   points_per_hole: 8
 //   levels_per_face: 1
 //   levels_per_hole: 1
+//   raw_scan: false                    # true: the export carries no feature labels (a raw scan,
+//                                      # points in plan order; the pipeline labels them itself)
 //   errors: {machine: ac_table, dx_CR(0)_um: 12.4, ...}   # tpcal.errors/1 body (kinematics/errors_yaml.md)
 #pragma once
 
@@ -39,6 +41,7 @@ struct SampleTruth {
   std::string errors_yaml;  // tpcal.errors/1 text
   testpieces::PieceSimOptions sim;
   std::optional<int> points_per_circle, points_per_hole, levels_per_face, levels_per_hole;
+  bool raw_scan = false;  // the bundled export drops the labels (SampleExportPoints)
 };
 
 Result<SampleTruth> LoadSampleTruth(const std::string& path);
@@ -51,6 +54,9 @@ struct SimulatedSample {
 
 // Builds the piece and machine, parses the errors and simulates the CMM points.
 Result<SimulatedSample> SimulateSample(const SampleTruth& truth);
+
+// The points as bundled: the simulated CMM points, without their labels when truth.raw_scan.
+PointSet SampleExportPoints(const SampleTruth& truth, const SimulatedSample& sample);
 
 // The true value of each named coefficient in its display unit (um, urad, ...): coefficients
 // missing from `errors` are zero (the stated truth has no such error).

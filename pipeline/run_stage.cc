@@ -6,6 +6,7 @@
 
 #include "kinematics/error_state.h"
 #include "pipeline/file_bytes.h"
+#include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
 #include "pipeline/xxh64.h"
 
@@ -55,6 +56,13 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   if (!bytes.ok()) return bytes.status();
   const std::string digest = fmt::format("{:016x}", Xxh64(bytes->view()));
   bytes->data.reset();
+
+  if (!file->points.has_labels()) {  // a raw scan: assign points to nominal features first
+    clock.Start("label");
+    auto labelled = LabelRawScan(setup->piece, file->points);
+    if (!labelled.ok()) return labelled.status();
+    file->points = std::move(labelled->labelled);
+  }
 
   clock.Start("gdt");
   auto inspection = gdt::EvaluatePlan(setup->piece.inspection, file->points);
