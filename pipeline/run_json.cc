@@ -66,6 +66,20 @@ std::string RunResultJson(const RunResult& r) {
         {"fit", IdentificationFitJson(id)},
         {"alignment", RigidJson(id.alignment)}}},
       {"figures", std::move(figures)}};
+  if (r.raw_scan) {
+    const RawScanLabeling& l = *r.raw_scan;
+    Json counts = Json::object();
+    for (const auto& c : l.counts) counts[c.feature] = c.points;
+    out["input"]["raw_scan"] = {{"num_points", l.num_points},
+                                {"num_labelled", l.num_points - l.num_rejected},
+                                {"num_rejected", l.num_rejected},
+                                {"labelled_fraction", l.labelled_fraction},
+                                {"rms_distance_um", l.rms_distance_um},
+                                {"symmetry_order", l.symmetry_order},
+                                {"part_from_cmm", RigidJson(l.part_from_cmm)},
+                                {"points_per_feature", std::move(counts)},
+                                {"message", l.message}};
+  }
   if (r.diagnosis) {
     out["diagnosis"] = Json::parse(DiagnosisJson(
         *r.diagnosis, {{"points", r.config.points}, {"testpiece", r.config.testpiece}, {"machine", r.machine_name}}));

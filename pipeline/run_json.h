@@ -5,7 +5,10 @@
 // {
 //   "schema": "tpcal.run/1", "tpcal": {"version", "git_revision"}, "seed": 1,
 //   "config": {... the effective tpcal.pipeline/1 settings ...},
-//   "input": {"points", "format", "digest_xxh64", "num_points", "source_units"},
+//   "input": {"points", "format", "digest_xxh64", "num_points" (in the file), "source_units",
+//             "raw_scan" (only for a file without labels: {"num_points", "num_labelled",
+//             "num_rejected", "labelled_fraction", "rms_distance_um", "symmetry_order",
+//             "part_from_cmm", "points_per_feature": {...}, "message"})},
 //   "piece": "...", "machine": "...",
 //   "inspection": {... tpcal.fit/1 (fit_json.h) ...},
 //   "identification": {... the blocks of tpcal.identification/1 (identify_json.h,

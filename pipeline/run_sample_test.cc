@@ -9,9 +9,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "pipeline/atomic_file.h"
 #include "pipeline/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
+#include "pipeline/run_json.h"
 #include "pipeline/run_stage.h"
 
 namespace tpcal::pipeline {
@@ -123,6 +126,16 @@ TEST(RunSample, TurningRawSampleRecoversTheStatedTruth) {
   }
   EXPECT_GE(identifiable, 5);
   EXPECT_LT(id.rms_after_um, 0.7);  // the CMM noise (0.5 um): no mislabelled point left
+  // result.json states the labelling: every point of the file counted, labelled + rejected.
+  ASSERT_TRUE(r->raw_scan.has_value());
+  const auto j = nlohmann::json::parse(RunResultJson(*r));
+  const auto& raw = j.at("input").at("raw_scan");
+  EXPECT_EQ(j.at("input").at("num_points").get<std::size_t>(), r->raw_scan->num_points);
+  EXPECT_EQ(raw.at("num_labelled").get<std::size_t>() + raw.at("num_rejected").get<std::size_t>(),
+            raw.at("num_points").get<std::size_t>());
+  std::size_t per_feature = 0;
+  for (const auto& [name, count] : raw.at("points_per_feature").items()) per_feature += count.get<std::size_t>();
+  EXPECT_EQ(per_feature, raw.at("num_labelled").get<std::size_t>());
 }
 
 TEST(RunSample, TruthFileErrorsAreReported) {

@@ -57,11 +57,16 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   const std::string digest = fmt::format("{:016x}", Xxh64(bytes->view()));
   bytes->data.reset();
 
+  const std::size_t num_points_in_file = file->points.size();
+  std::optional<RawScanLabeling> raw_scan;
   if (!file->points.has_labels()) {  // a raw scan: assign points to nominal features first
     clock.Start("label");
     auto labelled = LabelRawScan(setup->piece, file->points);
     if (!labelled.ok()) return labelled.status();
     file->points = std::move(labelled->labelled);
+    labelled->labelled = PointSet{};
+    labelled->piece_feature.clear();
+    raw_scan = std::move(*labelled);
   }
 
   clock.Start("gdt");
@@ -118,7 +123,8 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
               .machine_name = setup->machine.name,
               .plan = setup->piece.inspection,
               .points_info = file->info,
-              .num_points = file->points.size(),
+              .num_points = num_points_in_file,
+              .raw_scan = std::move(raw_scan),
               .points_digest = digest,
               .stage = IdentifyStageResult{std::move(*inspection), std::move(*obs), parameters, std::move(*id)},
               .diagnosis = std::move(diagnosis),

@@ -17,13 +17,15 @@
 #include "pipeline/diagnosis.h"
 #include "pipeline/identify_stage.h"
 #include "pipeline/point_io.h"
+#include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_config.h"
 #include "pipeline/svg_figures.h"
 
 namespace tpcal::pipeline {
 
 struct StageTiming {
-  std::string stage;  // "setup", "read", "gdt", "associate", "identify", "diagnose", "figures"
+  std::string stage;  // "setup", "read", "label" (raw scans only), "gdt", "associate", "identify", "diagnose",
+                      // "figures"
   double seconds = 0.0;
 };
 
@@ -36,7 +38,10 @@ struct RunResult {
   std::string machine_name;
   gdt::InspectionPlan plan;      // the piece's inspection plan
   PointFileInfo points_info;
-  std::size_t num_points = 0;
+  std::size_t num_points = 0;    // points in the file (a raw scan: before labelling)
+  // Set when the file was a raw scan: placement, per-feature counts, rejected points, RMS, symmetry.
+  // (RawScanLabeling::labelled is moved into the stage; only the summary is kept here.)
+  std::optional<RawScanLabeling> raw_scan;
   std::string points_digest;     // XXH64 of the point file's bytes, 16 hex digits
   IdentifyStageResult stage;     // inspection, observations, parameters, identification
   // Gap diagnosis with the identified parameter set as the base model (config.diagnose); when it
