@@ -321,6 +321,14 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   if (!catalogue.ok()) return catalogue.status();
   const double ln_n = std::log(static_cast<double>(n));
   std::vector<Projected> bases;
+  // Per candidate, for the pairwise ranking: feature-CV squared residual per feature and the
+  // features held out (empty for the PRESS fallback), and the PRESS sum of squares.
+  struct CvTrace {
+    std::vector<double> ss_by_feature;
+    std::vector<bool> held_out;
+    double press_ss = 0.0;
+  };
+  std::vector<CvTrace> traces;
   std::vector<CandidateResult> results;
   for (const auto& cc : catalogue->candidates) {
     CandidateResult cr;
@@ -341,6 +349,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     cr.press_rms_after_um = Rms(Press(r1, h0 + RowSquaredNorms(b.U)));
     {  // feature-CV before and after over the features the joint design can hold out
       const GroupCvResult cv1 = b.rank > 0 ? feature_cv.Evaluate(b.U, r1) : cv0;
+      CvTrace trace;
       cr.cv_features = count(cv1.holdable);
       cr.cv_not_held_out = not_held_out(cv1.holdable);
       // Does any held-out feature carry the effect (a non-zero column entry)? If not, the
@@ -356,14 +365,18 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
             break;
           }
       }
+      trace.press_ss = cr.press_rms_after_um * cr.press_rms_after_um * static_cast<double>(n);
       if (reaches || b.rank == 0) {
         cr.cv_rms_before_um = cv0.RmsOver(cv1.holdable);
         cr.cv_rms_after_um = cv1.Rms();
+        trace.ss_by_feature = cv1.ss_by_group;
+        trace.held_out = cv1.holdable;
       } else {
         cr.cv_method = "leave-one-point-out";
         cr.cv_rms_before_um = cr.press_rms_before_um;
         cr.cv_rms_after_um = cr.press_rms_after_um;
       }
+      traces.push_back(std::move(trace));
     }
     cr.cv_shrink_pct = cr.cv_rms_before_um > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cr.cv_rms_before_um) : 0.0;
     if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
@@ -403,10 +416,48 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   // ---- 3. Verdict and aliasing.
   std::vector<std::size_t> order(results.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  // Ranking of the significant candidates, pairwise (candidates hold out different features, so
+  // their cv figures are not comparable as they stand). A beats B when A's held-out squared
+  // residuals are smaller than B's on the features both hold out, by more than twice the standard
+  // error of the sum of the per-feature differences d_g = ss_A,g - ss_B,g (paired over the m common
+  // features: |sum d| > 2 sqrt(m) sd(d)); by PRESS over every point when either cannot be tested by
+  // feature or they share fewer than 3 held-out features. When that does not decide (the data
+  // cannot tell them apart by prediction), the smaller delta BIC wins. Order: most pairwise wins
+  // first, then the cv ratio after / before, then catalogue order.
+  auto beats = [&](std::size_t a, std::size_t b) {
+    const CvTrace &ta = traces[a], &tb = traces[b];
+    double sum = 0.0, sum2 = 0.0;
+    int m = 0;
+    if (!ta.held_out.empty() && !tb.held_out.empty()) {
+      for (std::size_t g = 0; g < ta.held_out.size(); ++g) {
+        if (!ta.held_out[g] || !tb.held_out[g]) continue;
+        const double d = ta.ss_by_feature[g] - tb.ss_by_feature[g];
+        sum += d;
+        sum2 += d * d;
+        ++m;
+      }
+    }
+    if (m >= 3) {
+      const double mean = sum / m;
+      const double var = std::max(0.0, (sum2 - m * mean * mean) / (m - 1));
+      const double se_sum = std::sqrt(var * m);
+      if (sum < -2.0 * se_sum) return true;
+      if (sum > 2.0 * se_sum) return false;
+    } else if (ta.press_ss < tb.press_ss) {
+      return true;
+    } else if (ta.press_ss > tb.press_ss) {
+      return false;
+    }
+    return results[a].delta_bic < results[b].delta_bic;
+  };
+  std::vector<int> wins(results.size(), 0);
+  for (std::size_t a = 0; a < results.size(); ++a)
+    for (std::size_t b = 0; b < results.size(); ++b)
+      if (a != b && results[a].significant && results[b].significant && beats(a, b)) ++wins[a];
   auto rank_key = [&](std::size_t k) {
     const auto& c = results[k];
     const double ratio = c.cv_rms_before_um > 0 ? c.cv_rms_after_um / c.cv_rms_before_um : 1.0;
-    return std::make_tuple(c.significant ? 0 : (c.observable ? 1 : 2), ratio);
+    return std::make_tuple(c.significant ? 0 : (c.observable ? 1 : 2), -wins[k], ratio);
   };
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rank_key(a) < rank_key(b); });
   // Best candidate of each family (first in the ranking).

@@ -43,16 +43,18 @@
 // in DiagnosisResult). The point figure (PRESS, leave-one-point-out e_i / (1 - h_ii)) is kept as
 // press_rms_before_um / press_rms_after_um. Also: nested F-test against the base (p-value,
 // chi-square/Wilson-Hilferty approximation of the F distribution, exact enough for n - q > 30)
-// and delta BIC = n ln(SSR1/SSR0) + p ln n (reported, not part of the rule). A candidate is
+// and delta BIC = n ln(SSR1/SSR0) + p ln n (tie-break of the ranking, below). A candidate is
 // significant when its p-value is below alpha / (number of candidates) (Bonferroni: family-wise
 // false alarm <= alpha) and its feature-CV RMS decreases (after < before over the same held-out
 // features; a candidate with no held-out feature cannot pass). A candidate whose columns are zero
 // on every held-out feature (an effect on one feature only, which then cannot be held out: e.g.
 // servo reversal on the turning piece's groove) cannot be tested by feature: its cv_* are the
-// PRESS figures and cv_method says so. The verdict is the significant
-// candidate with the largest feature-CV shrink (cv_rms_after / cv_rms_before smallest: the ratio,
-// because candidates may hold out different features; on the same features it orders as
-// cv_rms_after); `none` if there is none. Another family is indistinguishable from the verdict
+// PRESS figures and cv_method says so. Ranking of the significant candidates is pairwise,
+// because candidates hold out different features: A beats B when its held-out squared residuals
+// on the features both hold out are smaller by more than 2 standard errors (paired over those
+// features; PRESS over all points when either is PRESS-tested); undecided pairs go to the smaller
+// delta BIC. The verdict is the significant candidate with the most pairwise wins (then the
+// smaller cv_rms_after / cv_rms_before); `none` if there is none. Another family is indistinguishable from the verdict
 // when the verdict's columns add nothing significant (same alpha) to a fit that already holds
 // that family's best candidate: the data cannot tell them apart.
 #pragma once
