@@ -356,8 +356,9 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       // feature-CV cannot test the candidate (e.g. an effect acting on one feature only, which is
       // then not holdable): it is judged by its PRESS figure instead, and says so.
       bool reaches = false;
-      const double row_tol = 1e-12 * std::max(1e-300, cc.J_dev_effect.cwiseAbs().maxCoeff());
-      for (int g = 0; g < n_features && !reaches && b.rank > 0; ++g) {
+      const double row_tol =
+          cc.J_dev_effect.size() > 0 ? 1e-12 * std::max(1e-300, cc.J_dev_effect.cwiseAbs().maxCoeff()) : 0.0;
+      for (int g = 0; g < n_features && !reaches && b.rank > 0 && cc.J_dev_effect.size() > 0; ++g) {
         if (!cv1.holdable[static_cast<std::size_t>(g)]) continue;
         for (auto i : feature_cv.rows(g))
           if (cc.J_dev_effect.row(i).cwiseAbs().maxCoeff() > row_tol) {
