@@ -158,6 +158,45 @@ TEST(Diagnosis, PointReferenceFromTheSameErrorsGivesNoneAndNoiseGap) {
                           [](const CandidateResult& c) { return c.family == "location_errors"; }));
 }
 
+// Reference files that differ in count: every 4th point of S1 dropped from the reference. S1 is
+// then matched by nearest nominal position; the measured points whose partner is gone have no
+// reference point within 1 mm (the plan spacing on S1 is far larger) and are skipped and listed.
+TEST(Diagnosis, PointReferenceWithMissingPointsMatchesByNearestAndSkips) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine);
+  auto measured = Simulate(f, errors, 1.0, 25);
+  auto reference = Simulate(f, errors, 1.0, 26);
+  ASSERT_TRUE(measured.ok() && reference.ok());
+  PointSet thinned = reference->points;
+  const auto s1 = thinned.IndicesOf("S1");
+  ASSERT_GE(s1.size(), 8u);
+  std::vector<bool> drop(thinned.size(), false);
+  int dropped = 0;
+  for (std::size_t k = 0; k < s1.size(); k += 4) drop[s1[k]] = true, ++dropped;
+  PointSet kept = thinned;
+  kept.xyz_mm.clear();
+  kept.normal.clear();
+  kept.feature.clear();
+  kept.line.clear();
+  kept.attributes.clear();
+  for (std::size_t i = 0; i < thinned.size(); ++i) {
+    if (drop[i]) continue;
+    kept.xyz_mm.push_back(thinned.xyz_mm[i]);
+    if (!thinned.normal.empty()) kept.normal.push_back(thinned.normal[i]);
+    kept.feature.push_back(thinned.feature[i]);
+    if (!thinned.line.empty()) kept.line.push_back(thinned.line[i]);
+  }
+  auto d = DiagnoseAgainstPoints(f.piece, f.machine, measured->points, kept);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_TRUE(d->reference_match.has_value());
+  EXPECT_EQ(d->reference_match->unmatched, dropped);
+  EXPECT_EQ(d->reference_match->matched_by_nearest, static_cast<int>(s1.size()) - dropped);
+  EXPECT_LT(d->reference_match->max_offset_mm, 0.1);
+  EXPECT_EQ(d->n_points, static_cast<int>(measured->points.size()) - dropped);
+  EXPECT_GE(d->skipped_points.size(), static_cast<std::size_t>(dropped));
+  EXPECT_EQ(d->verdict.family, "none");
+}
+
 // The same reference against a piece cut with a withheld drift: the gap is the drift.
 TEST(Diagnosis, PointReferenceNamesAWithheldDrift) {
   const Fixture f = Make();
