@@ -366,14 +366,25 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
             break;
           }
       }
+      // Does the candidate make a feature unholdable that the base model holds out (its columns
+      // there are fixed by that feature's points alone, e.g. a straightness polynomial by the
+      // features at the ends of its axis range)? Its feature-CV would then be taken over a
+      // different, smaller set than the base's, leaving out exactly the features where it
+      // extrapolates worst, and would not be comparable with the other candidates': it is judged
+      // by PRESS instead (as a candidate no held-out feature carries), and says so. Holdable sets
+      // only shrink when columns are added (interlacing), so equal counts mean equal sets.
+      const bool loses_features = count(cv1.holdable) < count(cv0.holdable);
       trace.press_ss = cr.press_rms_after_um * cr.press_rms_after_um * static_cast<double>(n);
-      if (reaches || b.rank == 0) {
+      if (b.rank == 0 || (reaches && !loses_features)) {
         cr.cv_rms_before_um = cv0.RmsOver(cv1.holdable);
         cr.cv_rms_after_um = cv1.Rms();
         trace.ss_by_feature = cv1.ss_by_group;
         trace.held_out = cv1.holdable;
       } else {
         cr.cv_method = "leave-one-point-out";
+        cr.cv_method_reason = reaches ? "the effect's columns are fixed by features the base model holds out, which it "
+                                        "makes unholdable: leave-one-feature-out would compare it on fewer features"
+                                      : "no held-out feature carries the effect";
         cr.cv_rms_before_um = cr.press_rms_before_um;
         cr.cv_rms_after_um = cr.press_rms_after_um;
       }
@@ -421,8 +432,10 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   // their cv figures are not comparable as they stand). A beats B when A's held-out squared
   // residuals are smaller than B's on the features both hold out, by more than twice the standard
   // error of the sum of the per-feature differences d_g = ss_A,g - ss_B,g (paired over the m common
-  // features: |sum d| > 2 sqrt(m) sd(d)); by PRESS over every point when either cannot be tested by
-  // feature or they share fewer than 3 held-out features. When that does not decide (the data
+  // features: |sum d| > 2 sqrt(m) sd(d)); by PRESS over every point (the smaller wins) when either
+  // is judged by PRESS (cv_method) or they share fewer than 3 held-out features: two candidates are
+  // always compared on the same kind of figure. Both feature-tested means both hold out exactly
+  // the base's features, so the common set is the base's. When that does not decide (the data
   // cannot tell them apart by prediction), the smaller delta BIC wins. Order: most pairwise wins
   // first, then the cv ratio after / before, then catalogue order.
   auto beats = [&](std::size_t a, std::size_t b) {

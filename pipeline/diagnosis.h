@@ -48,11 +48,15 @@
 // false alarm <= alpha) and its feature-CV RMS decreases (after < before over the same held-out
 // features; a candidate with no held-out feature cannot pass). A candidate whose columns are zero
 // on every held-out feature (an effect on one feature only, which then cannot be held out: e.g.
-// servo reversal on the turning piece's groove) cannot be tested by feature: its cv_* are the
-// PRESS figures and cv_method says so. Ranking of the significant candidates is pairwise,
+// servo reversal on the turning piece's groove) cannot be tested by feature, nor can one that
+// makes a feature unholdable that the base model holds out (its columns there are fixed by that
+// feature's points alone, e.g. a straightness polynomial by the features at the ends of its axis
+// range: its feature-CV would leave out exactly the features where it extrapolates worst, over a
+// smaller set than the others'): their cv_* are the PRESS figures and cv_method says so
+// (cv_method_reason why). Ranking of the significant candidates is pairwise,
 // because candidates hold out different features: A beats B when its held-out squared residuals
 // on the features both hold out are smaller by more than 2 standard errors (paired over those
-// features; PRESS over all points when either is PRESS-tested); undecided pairs go to the smaller
+// features, which are then the base's; PRESS over all points when either is PRESS-tested); undecided pairs go to the smaller
 // delta BIC. The verdict is the significant candidate with the most pairwise wins (then the
 // smaller cv_rms_after / cv_rms_before); `none` if there is none. Another family is indistinguishable from the verdict
 // when the verdict's columns add nothing significant (same alpha) to a fit that already holds
@@ -141,8 +145,10 @@ struct CandidateResult {
   double cv_rms_before_um = 0.0, cv_rms_after_um = 0.0, cv_shrink_pct = 0.0;
   int cv_features = 0;                       // features held out (predicted) for this candidate
   // "leave-one-feature-out", or "leave-one-point-out" when no held-out feature carries the effect
-  // (cv_* are then the PRESS figures: the feature-CV cannot test it).
+  // or the candidate makes a feature unholdable that the base holds out (cv_* are then the PRESS
+  // figures: the feature-CV cannot test it on the base's features).
   std::string cv_method = "leave-one-feature-out";
+  std::string cv_method_reason;              // why leave-one-point-out (empty otherwise)
   std::vector<std::string> cv_not_held_out;  // features that could not be held out (base's included)
   double press_rms_before_um = 0.0, press_rms_after_um = 0.0;  // leave-one-point-out (PRESS)
   double f_stat = 0.0, p_value = 1.0, delta_bic = 0.0;

@@ -87,6 +87,7 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
     e["max_abs_after_um"] = c.max_abs_after_um;
     e["cv_shrink_pct"] = c.cv_shrink_pct;
     e["cv_method"] = c.cv_method;
+    if (!c.cv_method_reason.empty()) e["cv_method_reason"] = c.cv_method_reason;
     e["cv_features"] = c.cv_features;
     e["cv_not_held_out"] = c.cv_not_held_out;
     e["press_rms_before_um"] = c.press_rms_before_um;
@@ -158,8 +159,9 @@ std::string DiagnosisText(const DiagnosisResult& r) {
                      c.name, c.rank, c.rms_after_um, c.shrink_pct, c.cv_rms_before_um, c.cv_rms_after_um, c.cv_method == "leave-one-feature-out" ? fmt::format("{}", c.cv_features) : std::string("pt"),
                      c.press_rms_after_um, c.p_value, c.significant ? "*" : (c.observable ? "" : "unobservable"));
   }
-  o += "(cv_* leave one feature out over the cv_ft features the candidate's fit can hold out, or leave one point out "
-       "(pt) when no held-out feature carries the effect; press_aft leave one point out)\n";
+  o += "(cv_* leave one feature out over the cv_ft features the base and the candidate's fit hold out, or leave one "
+       "point out (pt) when no held-out feature carries the effect or the effect makes one of the base's held-out "
+       "features unholdable; press_aft leave one point out; pt candidates are ranked against the others by PRESS)\n";
   o += fmt::format("\nverdict: {} ({}), shrink {:.1f} % in-sample, {:.1f} % cross-validated\n", r.verdict.family,
                    r.verdict.name, r.verdict.shrink_pct, r.verdict.cv_shrink_pct);
   if (!r.verdict.indistinguishable_from.empty()) {
@@ -174,10 +176,9 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     for (const auto& p : best.parameters)
       o += fmt::format("    {:<28} {:>10.4g} +- {:<10.3g} {}{}\n", p.name, p.value, p.u, p.unit,
                        p.identifiable ? "" : " (not identifiable alone)");
-    if (best.cv_features < r.cv_features)
-      o += fmt::format("  cross-validated on {} features; not held out with this effect (its columns there are fixed "
-                       "by those points alone): {}\n",
-                       best.cv_features, fmt::join(best.cv_not_held_out, " "));
+    if (best.cv_method != "leave-one-feature-out")
+      o += fmt::format("  cross-validated by {} ({}); not held out with this effect: {}\n", best.cv_method,
+                       best.cv_method_reason, fmt::join(best.cv_not_held_out, " "));
     if (!best.base_shift.empty()) {
       o += "  change of the identified machine errors when it is modelled:\n";
       for (const auto& s : best.base_shift)

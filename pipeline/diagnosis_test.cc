@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis_json.h"
 #include "pipeline/diagnosis_validate.h"
+#include "testpieces/probing_plan.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -254,6 +256,47 @@ TEST(Diagnosis, CrossValidationHoldsOutFeatures) {
   EXPECT_EQ(j["cross_validation"]["method"], "leave-one-feature-out");
   EXPECT_TRUE(j["candidates"][0].contains("press_rms_after_um"));
   EXPECT_TRUE(j["candidates"][0].contains("cv_not_held_out"));
+}
+
+// A straightness error along Z (cubic table over the Z range the plan uses, linear trend removed):
+// the straightness candidates' polynomial columns are fixed by the features at the ends of the Z
+// range, which they make unholdable although the base model holds them out. Their feature-CV
+// would then cover fewer features than the base's (leaving out those where they extrapolate
+// worst), so they are judged by PRESS, say so, and are compared with every other candidate by
+// PRESS; the verdict is still the straightness.
+TEST(Diagnosis, CandidateThatMakesBaseFeaturesUnholdableIsJudgedByPress) {
+  const Fixture f = Make();
+  auto plan = testpieces::MakeProbingPlan(f.piece);
+  ASSERT_TRUE(plan.ok());
+  double lo = 1e300, hi = -1e300;
+  for (const auto& pp : plan->points) lo = std::min(lo, pp.cut.axes.z_mm), hi = std::max(hi, pp.cut.axes.z_mm);
+  ASSERT_GT(hi - lo, 10.0);
+  const auto at = [&](double u) { return lo - 1.0 + (hi - lo + 2.0) * u; };
+  // A bow with a small wave (its linear part is squareness, which the base model absorbs).
+  const std::string effect = fmt::format(
+      "effects:\n  - linear_error_motion: {{symbol: E_XZ, positions_mm: [{}, {}, {}, {}, {}], "
+      "values_um: [20, -5, -20, -10, 15], interpolation: cubic}}\n",
+      at(0), at(0.25), at(0.5), at(0.75), at(1));
+  auto sim = Simulate(f, Table2(f.machine, effect), 0.5, 41);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto d = Diagnose(f.piece, f.machine, sim->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_EQ(d->verdict.family, "linear_straightness") << DiagnosisText(*d);
+  const auto& best = d->candidates.front();
+  EXPECT_EQ(best.cv_method, "leave-one-point-out");
+  EXPECT_FALSE(best.cv_method_reason.empty());
+  EXPECT_LT(best.cv_features, d->cv_features);  // it loses features the base holds out
+  EXPECT_EQ(best.cv_rms_before_um, best.press_rms_before_um);
+  EXPECT_EQ(best.cv_rms_after_um, best.press_rms_after_um);
+  EXPECT_GT(best.cv_shrink_pct, 30.0) << DiagnosisText(*d);
+  for (const auto& c : d->candidates) {  // feature-tested candidates hold out exactly the base's features
+    if (c.cv_method == "leave-one-feature-out") {
+      EXPECT_EQ(c.cv_features, d->cv_features) << c.name;
+    }
+  }
+  const auto j = nlohmann::json::parse(DiagnosisJson(*d));
+  EXPECT_EQ(j["candidates"][0]["cv_method"], "leave-one-point-out");
+  EXPECT_TRUE(j["candidates"][0].contains("cv_method_reason"));
 }
 
 // The validation harness on a small fixed-seed run: the targets where observable.
