@@ -1,6 +1,7 @@
 #include "pipeline/diagnosis.h"
 
 #include <Eigen/SVD>
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -10,6 +11,7 @@
 #include "gdt/inspection.h"
 #include "kinematics/identification.h"
 #include "pipeline/diagnosis_candidates.h"
+#include "pipeline/diagnosis_cv.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -189,21 +191,31 @@ Status DiagnosisOptions::Validate() const {
   if (!(noise_um >= 0)) return {StatusCode::kInvalidArgument, "diagnosis noise_um must be >= 0"};
   if (max_harmonic < 1) return {StatusCode::kInvalidArgument, "diagnosis max_harmonic must be >= 1"};
   if (!(stand_out_z > 0)) return {StatusCode::kInvalidArgument, "diagnosis stand_out_z must be > 0"};
+  if (!(holdout_tolerance > 0 && holdout_tolerance < 1))
+    return {StatusCode::kInvalidArgument, "diagnosis holdout_tolerance must be in (0, 1)"};
+  if (!(reference_match_mm > 0)) return {StatusCode::kInvalidArgument, "diagnosis reference_match_mm must be > 0"};
   return {};
 }
 
-Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
-                                             const kinematics::MachineModel& machine,
-                                             const MeasuredObservations& mo, const DiagnosisOptions& options) {
+namespace {
+
+// The diagnosis; `reference_dev_um` (per observation, or null): the point reference's normal
+// deviations, subtracted from the measured ones (DiagnoseAgainstPoints).
+Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                     const MeasuredObservations& mo, const DiagnosisOptions& options,
+                                     const Eigen::VectorXd* reference_dev_um) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
   const auto& obs = mo.observations;
   const auto n = static_cast<Eigen::Index>(obs.size());
-  const bool reference_mode = options.reference.has_value();
+  const bool point_reference = reference_dev_um != nullptr;
+  if (point_reference && options.reference)
+    return Status(StatusCode::kInvalidArgument, "diagnosis: a reference point file and reference machine errors together");
+  const bool reference_mode = options.reference.has_value() || point_reference;
   std::vector<std::string> base_names =
       options.base_parameters.empty() ? DefaultParameterSet(piece, machine) : options.base_parameters;
 
   // ---- 1. Base model: the base set fitted (Gauss-Newton, two linearisations), or the reference.
-  kinematics::ErrorState errors = reference_mode ? *options.reference : kinematics::ErrorState(machine);
+  kinematics::ErrorState errors = options.reference ? *options.reference : kinematics::ErrorState(machine);
   kinematics::ActiveSet base_active;
   if (!base_names.empty()) {
     if (!reference_mode) {
@@ -238,6 +250,7 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
     if (q_fit > 0) X0.leftCols(q_fit) = lin->J_dev_params;
     X0.rightCols(6) = lin->J_dev_alignment;
     y = lin->measured_dev_um - lin->predicted_dev_um;
+    if (point_reference) y -= *reference_dev_um;
     base = MakeBasis(X0, ColumnNorms(X0), kBaseRankTolerance, true);
     const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
     const double s2 = r0.squaredNorm() / std::max<double>(1.0, static_cast<double>(n - base.rank));
@@ -257,9 +270,12 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   DiagnosisResult out;
   out.n_points = static_cast<int>(n);
   out.base_columns = base.rank;
-  out.base_model = reference_mode ? options.reference_name + " (fixed machine errors, re-alignment fitted)"
-                                  : "location errors and squareness (" + std::to_string(q_fit) +
-                                        " parameters) + re-alignment, fitted";
+  out.base_model = point_reference
+                       ? options.reference_name + " (reference point file: measured minus reference point by point, "
+                                                  "re-alignment fitted)"
+                   : reference_mode ? options.reference_name + " (fixed machine errors, re-alignment fitted)"
+                                    : "location errors and squareness (" + std::to_string(q_fit) +
+                                          " parameters) + re-alignment, fitted";
   for (int k = 0; k < q_fit; ++k) {
     const int c = base_active.coefficients[static_cast<std::size_t>(k)];
     const auto& info = errors.coefficient_info(c);
@@ -274,7 +290,27 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
   const Eigen::VectorXd h0 = RowSquaredNorms(base.U);
   const double ssr0 = r0.squaredNorm();
-  const double cv_before = Rms(Press(r0, h0));
+  const double press_before = Rms(Press(r0, h0));
+  // Leave-one-feature-out of the base fit (diagnosis_cv.h).
+  const int n_features = static_cast<int>(mo.feature_names.size());
+  std::vector<int> feature_of_point(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) feature_of_point[static_cast<std::size_t>(i)] = obs[static_cast<std::size_t>(i)].group;
+  const GroupCrossValidation feature_cv(base.U, feature_of_point, n_features, options.holdout_tolerance);
+  const GroupCvResult cv0 = feature_cv.Evaluate(r0);
+  auto not_held_out = [&](const std::vector<bool>& holdable) {
+    std::vector<std::string> names;
+    for (int g = 0; g < n_features; ++g)
+      if (!holdable[static_cast<std::size_t>(g)] && !feature_cv.rows(g).empty())
+        names.push_back(mo.feature_names[static_cast<std::size_t>(g)]);
+    return names;
+  };
+  auto count = [](const std::vector<bool>& v) { return static_cast<int>(std::count(v.begin(), v.end(), true)); };
+  out.press_rms_um = press_before;
+  out.cv_rms_um = cv0.Rms();
+  out.n_features = 0;
+  for (int g = 0; g < n_features; ++g) out.n_features += feature_cv.rows(g).empty() ? 0 : 1;
+  out.cv_features = count(cv0.holdable);
+  out.cv_not_held_out = not_held_out(cv0.holdable);
   out.rms_um = Rms(r0);
   out.max_abs_um = r0.size() ? r0.cwiseAbs().maxCoeff() : 0.0;
   out.gap_um.assign(r0.data(), r0.data() + r0.size());
@@ -285,6 +321,14 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   if (!catalogue.ok()) return catalogue.status();
   const double ln_n = std::log(static_cast<double>(n));
   std::vector<Projected> bases;
+  // Per candidate, for the pairwise ranking: feature-CV squared residual per feature and the
+  // features held out (empty for the PRESS fallback), and the PRESS sum of squares.
+  struct CvTrace {
+    std::vector<double> ss_by_feature;
+    std::vector<bool> held_out;
+    double press_ss = 0.0;
+  };
+  std::vector<CvTrace> traces;
   std::vector<CandidateResult> results;
   for (const auto& cc : catalogue->candidates) {
     CandidateResult cr;
@@ -294,7 +338,7 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
     Projected b = ProjectCandidate(cc.J_dev_effect, base.U, options.absorbed_tolerance);
     cr.rank = b.rank;
     cr.observable = b.rank > 0;
-    cr.cv_rms_before_um = cv_before;
+    cr.press_rms_before_um = press_before;
     const Eigen::VectorXd fitted = b.U * (b.U.transpose() * r0);
     const Eigen::VectorXd r1 = r0 - fitted;
     const double ssr1 = r1.squaredNorm();
@@ -302,8 +346,51 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
     cr.rms_after_um = Rms(r1);
     cr.max_abs_after_um = r1.size() ? r1.cwiseAbs().maxCoeff() : 0.0;
     cr.shrink_pct = out.rms_um > 0 ? 100.0 * (1.0 - cr.rms_after_um / out.rms_um) : 0.0;
-    cr.cv_rms_after_um = Rms(Press(r1, h0 + RowSquaredNorms(b.U)));
-    cr.cv_shrink_pct = cv_before > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cv_before) : 0.0;
+    cr.press_rms_after_um = Rms(Press(r1, h0 + RowSquaredNorms(b.U)));
+    {  // feature-CV before and after over the features the joint design can hold out
+      const GroupCvResult cv1 = b.rank > 0 ? feature_cv.Evaluate(b.U, r1) : cv0;
+      CvTrace trace;
+      cr.cv_features = count(cv1.holdable);
+      cr.cv_not_held_out = not_held_out(cv1.holdable);
+      // Does any held-out feature carry the effect (a non-zero column entry)? If not, the
+      // feature-CV cannot test the candidate (e.g. an effect acting on one feature only, which is
+      // then not holdable): it is judged by its PRESS figure instead, and says so.
+      bool reaches = false;
+      const double row_tol =
+          cc.J_dev_effect.size() > 0 ? 1e-12 * std::max(1e-300, cc.J_dev_effect.cwiseAbs().maxCoeff()) : 0.0;
+      for (int g = 0; g < n_features && !reaches && b.rank > 0 && cc.J_dev_effect.size() > 0; ++g) {
+        if (!cv1.holdable[static_cast<std::size_t>(g)]) continue;
+        for (auto i : feature_cv.rows(g))
+          if (cc.J_dev_effect.row(i).cwiseAbs().maxCoeff() > row_tol) {
+            reaches = true;
+            break;
+          }
+      }
+      // Does the candidate make a feature unholdable that the base model holds out (its columns
+      // there are fixed by that feature's points alone, e.g. a straightness polynomial by the
+      // features at the ends of its axis range)? Its feature-CV would then be taken over a
+      // different, smaller set than the base's, leaving out exactly the features where it
+      // extrapolates worst, and would not be comparable with the other candidates': it is judged
+      // by PRESS instead (as a candidate no held-out feature carries), and says so. Holdable sets
+      // only shrink when columns are added (interlacing), so equal counts mean equal sets.
+      const bool loses_features = count(cv1.holdable) < count(cv0.holdable);
+      trace.press_ss = cr.press_rms_after_um * cr.press_rms_after_um * static_cast<double>(n);
+      if (b.rank == 0 || (reaches && !loses_features)) {
+        cr.cv_rms_before_um = cv0.RmsOver(cv1.holdable);
+        cr.cv_rms_after_um = cv1.Rms();
+        trace.ss_by_feature = cv1.ss_by_group;
+        trace.held_out = cv1.holdable;
+      } else {
+        cr.cv_method = "leave-one-point-out";
+        cr.cv_method_reason = reaches ? "the effect's columns are fixed by features the base model holds out, which it "
+                                        "makes unholdable: leave-one-feature-out would compare it on fewer features"
+                                      : "no held-out feature carries the effect";
+        cr.cv_rms_before_um = cr.press_rms_before_um;
+        cr.cv_rms_after_um = cr.press_rms_after_um;
+      }
+      traces.push_back(std::move(trace));
+    }
+    cr.cv_shrink_pct = cr.cv_rms_before_um > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cr.cv_rms_before_um) : 0.0;
     if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
       cr.f_stat = ((ssr0 - ssr1) / b.rank) / (ssr1 / dof1);
       cr.p_value = FUpperTail(cr.f_stat, b.rank, dof1);
@@ -341,9 +428,50 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   // ---- 3. Verdict and aliasing.
   std::vector<std::size_t> order(results.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  // Ranking of the significant candidates, pairwise (candidates hold out different features, so
+  // their cv figures are not comparable as they stand). A beats B when A's held-out squared
+  // residuals are smaller than B's on the features both hold out, by more than twice the standard
+  // error of the sum of the per-feature differences d_g = ss_A,g - ss_B,g (paired over the m common
+  // features: |sum d| > 2 sqrt(m) sd(d)); by PRESS over every point (the smaller wins) when either
+  // is judged by PRESS (cv_method) or they share fewer than 3 held-out features: two candidates are
+  // always compared on the same kind of figure. Both feature-tested means both hold out exactly
+  // the base's features, so the common set is the base's. When that does not decide (the data
+  // cannot tell them apart by prediction), the smaller delta BIC wins. Order: most pairwise wins
+  // first, then the cv ratio after / before, then catalogue order.
+  auto beats = [&](std::size_t a, std::size_t b) {
+    const CvTrace &ta = traces[a], &tb = traces[b];
+    double sum = 0.0, sum2 = 0.0;
+    int m = 0;
+    if (!ta.held_out.empty() && !tb.held_out.empty()) {
+      for (std::size_t g = 0; g < ta.held_out.size(); ++g) {
+        if (!ta.held_out[g] || !tb.held_out[g]) continue;
+        const double d = ta.ss_by_feature[g] - tb.ss_by_feature[g];
+        sum += d;
+        sum2 += d * d;
+        ++m;
+      }
+    }
+    if (m >= 3) {
+      const double mean = sum / m;
+      const double var = std::max(0.0, (sum2 - m * mean * mean) / (m - 1));
+      const double se_sum = std::sqrt(var * m);
+      if (sum < -2.0 * se_sum) return true;
+      if (sum > 2.0 * se_sum) return false;
+    } else if (ta.press_ss < tb.press_ss) {
+      return true;
+    } else if (ta.press_ss > tb.press_ss) {
+      return false;
+    }
+    return results[a].delta_bic < results[b].delta_bic;
+  };
+  std::vector<int> wins(results.size(), 0);
+  for (std::size_t a = 0; a < results.size(); ++a)
+    for (std::size_t b = 0; b < results.size(); ++b)
+      if (a != b && results[a].significant && results[b].significant && beats(a, b)) ++wins[a];
   auto rank_key = [&](std::size_t k) {
     const auto& c = results[k];
-    return std::make_tuple(c.significant ? 0 : (c.observable ? 1 : 2), c.cv_rms_after_um);
+    const double ratio = c.cv_rms_before_um > 0 ? c.cv_rms_after_um / c.cv_rms_before_um : 1.0;
+    return std::make_tuple(c.significant ? 0 : (c.observable ? 1 : 2), -wins[k], ratio);
   };
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rank_key(a) < rank_key(b); });
   // Best candidate of each family (first in the ranking).
@@ -460,42 +588,143 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
   return out;
 }
 
+// Labelled points of `points` (any placement) as observations in the nominal part frame (datum
+// frame from the piece's inspection plan). Points no cut of their feature reaches are skipped
+// ("file:line: why" in *skipped); unlabelled points and unknown features stay errors.
+Result<MeasuredObservations> ObservationsForDiagnosis(const testpieces::TestPiece& piece, const PointSet& points,
+                                                      std::vector<std::string>* skipped) {
+  auto inspection = gdt::EvaluatePlan(piece.inspection, points);
+  if (!inspection.ok()) return inspection.status();
+  auto obs = ObservationsFromPoints(piece, points, inspection->datum_from_cmm);
+  if (obs.ok()) return obs;
+  // A point whose cut cannot be found (typically at a face edge, pushed out of the machined band
+  // by errors and noise) fails the whole conversion; the diagnosis keeps every other point and
+  // reports the skipped ones. Unknown features and unlabelled points stay errors.
+  MeasuredObservations kept;
+  std::map<int, int> group_of_label;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int label = points.feature.empty() ? PointSet::kUnlabelled : points.feature[i];
+    if (label == PointSet::kUnlabelled) return obs.status();
+    const std::string& name = points.feature_names[static_cast<std::size_t>(label)];
+    if (!piece.Feature(name)) return obs.status();
+    const Eigen::Vector3d p_datum = inspection->datum_from_cmm * points.xyz_mm[i];
+    auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
+    if (!cut.ok()) {
+      skipped->push_back(Status(cut.status()).WithLocation(points.source, points.LineOf(i)).ToString());
+      continue;
+    }
+    auto [it, inserted] = group_of_label.try_emplace(label, static_cast<int>(kept.feature_names.size()));
+    if (inserted) kept.feature_names.push_back(name);
+    kinematics::Observation o;
+    o.cut = *cut;
+    o.measured_mm = piece.part_from_datum * p_datum;
+    o.group = it->second;
+    kept.observations.push_back(o);
+    kept.point_index.push_back(i);
+  }
+  return kept;
+}
+
+}  // namespace
+
+Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
+                                             const kinematics::MachineModel& machine,
+                                             const MeasuredObservations& observations, const DiagnosisOptions& options) {
+  return DiagnoseImpl(piece, machine, observations, options, nullptr);
+}
+
 Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                  const PointSet& measured, const DiagnosisOptions& options) {
-  auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
-  if (!inspection.ok()) return inspection.status();
-  auto obs = ObservationsFromPoints(piece, measured, inspection->datum_from_cmm);
   std::vector<std::string> skipped;
-  if (!obs.ok()) {
-    // A point whose cut cannot be found (typically at a face edge, pushed out of the machined band
-    // by errors and noise) fails the whole conversion; the diagnosis keeps every other point and
-    // reports the skipped ones. Unknown features and unlabelled points stay errors.
-    MeasuredObservations kept;
-    std::map<int, int> group_of_label;
-    for (std::size_t i = 0; i < measured.size(); ++i) {
-      const int label = measured.feature.empty() ? PointSet::kUnlabelled : measured.feature[i];
-      if (label == PointSet::kUnlabelled) return obs.status();
-      const std::string& name = measured.feature_names[static_cast<std::size_t>(label)];
-      if (!piece.Feature(name)) return obs.status();
-      const Eigen::Vector3d p_datum = inspection->datum_from_cmm * measured.xyz_mm[i];
-      auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
-      if (!cut.ok()) {
-        skipped.push_back(Status(cut.status()).WithLocation(measured.source, measured.LineOf(i)).ToString());
-        continue;
-      }
-      auto [it, inserted] = group_of_label.try_emplace(label, static_cast<int>(kept.feature_names.size()));
-      if (inserted) kept.feature_names.push_back(name);
-      kinematics::Observation o;
-      o.cut = *cut;
-      o.measured_mm = piece.part_from_datum * p_datum;
-      o.group = it->second;
-      kept.observations.push_back(o);
-      kept.point_index.push_back(i);
-    }
-    obs = std::move(kept);
-  }
-  auto result = DiagnoseObservations(piece, machine, *obs, options);
+  auto obs = ObservationsForDiagnosis(piece, measured, &skipped);
+  if (!obs.ok()) return obs.status();
+  auto result = DiagnoseImpl(piece, machine, *obs, options, nullptr);
   if (result.ok()) result->skipped_points = std::move(skipped);
+  return result;
+}
+
+Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                              const PointSet& measured, const PointSet& reference,
+                                              const DiagnosisOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.Validate());
+  if (options.reference)
+    return Status(StatusCode::kInvalidArgument, "diagnosis: a reference point file and reference machine errors together");
+  std::vector<std::string> skipped, skipped_ref;
+  auto mo = ObservationsForDiagnosis(piece, measured, &skipped);
+  if (!mo.ok()) return mo.status();
+  auto ro = ObservationsForDiagnosis(piece, reference, &skipped_ref);
+  if (!ro.ok()) return ro.status();
+  // The reference's normal deviations at nominal errors, as DiagnoseImpl computes the measured ones.
+  auto lin = LineariseBySlots(machine, kinematics::ErrorState(machine), {}, ro->observations);
+  if (!lin.ok()) return lin.status();
+  const Eigen::VectorXd ref_dev_um = lin->measured_dev_um - lin->predicted_dev_um;
+  // Reference observations per feature name, in file order.
+  std::map<std::string, std::vector<std::size_t>> ref_of_feature;
+  for (std::size_t j = 0; j < ro->observations.size(); ++j)
+    ref_of_feature[ro->feature_names[static_cast<std::size_t>(ro->observations[j].group)]].push_back(j);
+  std::map<std::string, std::vector<std::size_t>> meas_of_feature;
+  for (std::size_t i = 0; i < mo->observations.size(); ++i)
+    meas_of_feature[mo->feature_names[static_cast<std::size_t>(mo->observations[i].group)]].push_back(i);
+  const double tol_mm = options.reference_match_mm;
+  auto nominal = [](const MeasuredObservations& m, std::size_t k) -> const Eigen::Vector3d& {
+    return m.observations[k].cut.nominal_point_mm;
+  };
+  std::vector<long> match(mo->observations.size(), -1);  // reference observation of each measured one
+  DiagnosisResult::ReferenceMatch rm;
+  for (const auto& [name, mi] : meas_of_feature) {
+    const auto it = ref_of_feature.find(name);
+    if (it == ref_of_feature.end()) continue;
+    const auto& rj = it->second;
+    bool by_order = mi.size() == rj.size();
+    for (std::size_t k = 0; by_order && k < mi.size(); ++k)
+      by_order = (nominal(*mo, mi[k]) - nominal(*ro, rj[k])).norm() <= tol_mm;
+    for (std::size_t k = 0; k < mi.size(); ++k) {
+      std::size_t best = rj.front();
+      double best_d = (nominal(*mo, mi[k]) - nominal(*ro, best)).norm();
+      if (by_order) {
+        best = rj[k];
+        best_d = (nominal(*mo, mi[k]) - nominal(*ro, best)).norm();
+      } else {
+        for (std::size_t j : rj) {  // first nearest in file order
+          const double d = (nominal(*mo, mi[k]) - nominal(*ro, j)).norm();
+          if (d < best_d) best = j, best_d = d;
+        }
+        if (best_d > tol_mm) continue;
+      }
+      match[mi[k]] = static_cast<long>(best);
+      rm.max_offset_mm = std::max(rm.max_offset_mm, best_d);
+      (by_order ? rm.matched_by_order : rm.matched_by_nearest) += 1;
+    }
+  }
+  MeasuredObservations kept;
+  std::vector<double> dev;
+  std::map<int, int> group_map;
+  for (std::size_t i = 0; i < mo->observations.size(); ++i) {
+    const auto& o = mo->observations[i];
+    const std::size_t pi = mo->point_index[i];
+    if (match[i] < 0) {
+      ++rm.unmatched;
+      skipped.push_back(Status(StatusCode::kInvalidArgument, "no reference point of feature " +
+                                                          mo->feature_names[static_cast<std::size_t>(o.group)] +
+                                                          fmt::format(" within {} mm of its nominal position", tol_mm))
+                            .WithLocation(measured.source, measured.LineOf(pi))
+                            .ToString());
+      continue;
+    }
+    auto [g, inserted] = group_map.try_emplace(o.group, static_cast<int>(kept.feature_names.size()));
+    if (inserted) kept.feature_names.push_back(mo->feature_names[static_cast<std::size_t>(o.group)]);
+    kinematics::Observation ok = o;
+    ok.group = g->second;
+    kept.observations.push_back(ok);
+    kept.point_index.push_back(pi);
+    dev.push_back(ref_dev_um(static_cast<Eigen::Index>(match[i])));
+  }
+  const Eigen::VectorXd dev_um = Eigen::Map<const Eigen::VectorXd>(dev.data(), static_cast<Eigen::Index>(dev.size()));
+  auto result = DiagnoseImpl(piece, machine, kept, options, &dev_um);
+  if (!result.ok()) return result.status();
+  for (auto& s : skipped_ref) skipped.push_back("reference: " + s);
+  result->skipped_points = std::move(skipped);
+  result->reference_match = rm;
   return result;
 }
 

@@ -1,10 +1,24 @@
 // Diagnosis of the sim-to-real gap (issue 6): where a measured test piece departs from the base
 // model, which unmodelled effect explains it, and how far the gap shrinks when it is modelled.
 //
-// Model. The "sim" is the base model: the piece's DefaultParameterSet (location errors and
-// squareness) fitted to the measured points with the 6-DOF re-alignment nuisance, or (reference
-// mode) fixed machine errors given by the user, with only the re-alignment fitted. The "real" is
-// the measured point file. Everything is linear least squares in display units (um, urad) on the
+// Model. The "sim" is one of three:
+//  * the base model (default): the piece's DefaultParameterSet (location errors and squareness)
+//    fitted to the measured points with the 6-DOF re-alignment nuisance;
+//  * reference machine errors (DiagnosisOptions::reference, e.g. from a probing test): fixed, only
+//    the re-alignment is fitted;
+//  * a reference point file (DiagnoseAgainstPoints, e.g. the piece simulated from known errors, or
+//    a second measurement): the gap is the measured normal deviation minus the reference's normal
+//    deviation at the associated reference point, with only the re-alignment fitted. Both files
+//    are put in their own datum frame (the piece's inspection plan) and associated per feature
+//    label: by order within the feature when both have the same number of points and every pair's
+//    nominal positions (part frame) lie within `reference_match_mm`; otherwise each measured
+//    point takes the reference point of its feature with the nearest nominal position (ties: the
+//    first in file order), and a point with none within `reference_match_mm` is skipped and
+//    listed. Deviations are normal deviations at each point's own nominal position; for two files
+//    of the same probing plan the positions differ by the errors (tens of um), so the deviation
+//    field's change between them is negligible. The noise of the gap is then
+//    sqrt(sigma_measured^2 + sigma_reference^2).
+// The "real" is the measured point file. Everything is linear least squares in display units (um, urad) on the
 // design of kinematics::LineariseObservations, linearised at zero base errors (or the reference),
 // re-linearised once at the fitted base when a fitted value exceeds 1000 um / urad (below that,
 // second-order terms stay under 5e-4 um on a 500 mm piece). The gap is the residual per point (um, along the nominal normal,
@@ -19,16 +33,34 @@
 // `absorbed_tolerance`) are dropped:
 // a candidate with no direction left is reported as unobservable on this piece and plan.
 //
-// Scores per candidate: in-sample RMS after and shrink; cross-validated RMS before and after =
-// leave-one-point-out (PRESS residuals e_i / (1 - h_ii) of the joint fit: the effect's and the
-// base's parameters fitted without the point they predict); nested F-test against the base
-// (p-value, chi-square/Wilson-Hilferty approximation of the F distribution, exact enough for
-// n - q > 30), delta BIC = n ln(SSR1/SSR0) + p ln n. A candidate is significant when its p-value
-// is below alpha / (number of candidates) (Bonferroni: family-wise false alarm <= alpha), its
-// BIC decreases and its cross-validated RMS decreases. The verdict is the significant candidate
-// with the smallest cross-validated RMS (`none` if there is none). Another family is
-// indistinguishable from the verdict when the verdict's columns add nothing significant (same
-// alpha) to a fit that already holds that family's best candidate: the data cannot tell them apart.
+// Scores per candidate: in-sample RMS after and shrink; cross-validated RMS before and after by
+// leave-one-FEATURE-out (diagnosis_cv.h): each measured feature is predicted by the joint fit
+// (base + re-alignment + candidate) on the other features, e_G(-G) = (I - H_GG)^-1 e_G (Woodbury,
+// p x p per feature); "before" is the same for the base fit alone. A feature whose points alone
+// determine a direction of the joint design (smallest eigenvalue of the information the other
+// features carry, relative to the whole design's, below `holdout_tolerance`) cannot be predicted:
+// it is left out of both sums of that candidate and listed (cv_not_held_out; the base's own list
+// in DiagnosisResult). The point figure (PRESS, leave-one-point-out e_i / (1 - h_ii)) is kept as
+// press_rms_before_um / press_rms_after_um. Also: nested F-test against the base (p-value,
+// chi-square/Wilson-Hilferty approximation of the F distribution, exact enough for n - q > 30)
+// and delta BIC = n ln(SSR1/SSR0) + p ln n (tie-break of the ranking, below). A candidate is
+// significant when its p-value is below alpha / (number of candidates) (Bonferroni: family-wise
+// false alarm <= alpha) and its feature-CV RMS decreases (after < before over the same held-out
+// features; a candidate with no held-out feature cannot pass). A candidate whose columns are zero
+// on every held-out feature (an effect on one feature only, which then cannot be held out: e.g.
+// servo reversal on the turning piece's groove) cannot be tested by feature, nor can one that
+// makes a feature unholdable that the base model holds out (its columns there are fixed by that
+// feature's points alone, e.g. a straightness polynomial by the features at the ends of its axis
+// range: its feature-CV would leave out exactly the features where it extrapolates worst, over a
+// smaller set than the others'): their cv_* are the PRESS figures and cv_method says so
+// (cv_method_reason why). Ranking of the significant candidates is pairwise,
+// because candidates hold out different features: A beats B when its held-out squared residuals
+// on the features both hold out are smaller by more than 2 standard errors (paired over those
+// features, which are then the base's; PRESS over all points when either is PRESS-tested); undecided pairs go to the smaller
+// delta BIC. The verdict is the significant candidate with the most pairwise wins (then the
+// smaller cv_rms_after / cv_rms_before); `none` if there is none. Another family is indistinguishable from the verdict
+// when the verdict's columns add nothing significant (same alpha) to a fit that already holds
+// that family's best candidate: the data cannot tell them apart.
 #pragma once
 
 #include <optional>
@@ -56,6 +88,17 @@ struct DiagnosisOptions {
   double noise_um = 0.0;              // known CMM noise sigma (um); 0 = estimated from the residual
   int max_harmonic = 8;               // C harmonics reported per circular profile
   double stand_out_z = 4.0;           // z-score above which a group stands out beyond noise
+  // Feature-CV: a feature is not held out when the other features carry less than this share of
+  // the design's information on some direction (smallest eigenvalue of I - Q_G^T Q_G, Q
+  // orthonormal; 0 = exactly rank-deficient). 0.05: the held-out residual's noise variance along
+  // that direction is amplified by at most 1 / 0.05 = 20x. Measured on the turning piece (paper
+  // plan, base model): every feature has >= 0.157 except S5 with 0.0039, whose held-out residual
+  // (21.8 um RMS on 0.6 um in-sample with a drift) would otherwise dominate the CV sums.
+  double holdout_tolerance = 0.05;
+  // DiagnoseAgainstPoints: largest distance (mm, part frame) between the nominal positions of a
+  // measured point and its reference point. 1 mm: far above the errors' shift of one probing
+  // target between two files (tens of um), far below the plan's point spacing (> 5 mm).
+  double reference_match_mm = 1.0;
   Status Validate() const;
 };
 
@@ -98,7 +141,16 @@ struct CandidateResult {
   int rank = 0;        // directions left after projecting out the base (0 = unobservable)
   bool observable = false;
   double rms_after_um = 0.0, max_abs_after_um = 0.0, shrink_pct = 0.0;
+  // Leave-one-feature-out (see the top of this file), over the same held-out features before and after.
   double cv_rms_before_um = 0.0, cv_rms_after_um = 0.0, cv_shrink_pct = 0.0;
+  int cv_features = 0;                       // features held out (predicted) for this candidate
+  // "leave-one-feature-out", or "leave-one-point-out" when no held-out feature carries the effect
+  // or the candidate makes a feature unholdable that the base holds out (cv_* are then the PRESS
+  // figures: the feature-CV cannot test it on the base's features).
+  std::string cv_method = "leave-one-feature-out";
+  std::string cv_method_reason;              // why leave-one-point-out (empty otherwise)
+  std::vector<std::string> cv_not_held_out;  // features that could not be held out (base's included)
+  double press_rms_before_um = 0.0, press_rms_after_um = 0.0;  // leave-one-point-out (PRESS)
   double f_stat = 0.0, p_value = 1.0, delta_bic = 0.0;
   bool significant = false;
   std::vector<EffectParameter> parameters;
@@ -125,12 +177,24 @@ struct DiagnosisResult {
   int base_columns = 0;        // identifiable base directions + alignment
   double rms_um = 0.0, max_abs_um = 0.0;   // the gap
   double noise_sigma_um = 0.0;             // sigma used for "beyond noise" (given or estimated)
+  // Leave-one-feature-out of the base fit: RMS over the features that can be held out, and those
+  // that cannot (their points alone determine a direction of the base model and re-alignment).
+  double cv_rms_um = 0.0, press_rms_um = 0.0;
+  int n_features = 0, cv_features = 0;
+  std::vector<std::string> cv_not_held_out;
+  // Point reference (DiagnoseAgainstPoints): how the measured points were matched.
+  struct ReferenceMatch {
+    int matched_by_order = 0, matched_by_nearest = 0;  // points
+    double max_offset_mm = 0.0;     // largest nominal-position distance of a matched pair
+    int unmatched = 0;              // measured points without a reference point (skipped)
+  };
+  std::optional<ReferenceMatch> reference_match;
   std::vector<GroupGap> by_feature, by_operation, by_a_index;
   double drift_um_per_h = 0.0, drift_u_um_per_h = 0.0;  // linear trend of the gap with t_s
   std::vector<HarmonicGap> harmonics;      // every circular profile, orders 1..max_harmonic
   std::vector<std::string> standing_out;   // names of the groups that stand out
   std::vector<EffectParameter> base_parameters;  // identified base coefficients (without effect)
-  std::vector<CandidateResult> candidates;       // best first (cv_rms_after ascending; unobservable last)
+  std::vector<CandidateResult> candidates;       // best first (significant, then by cv_rms_after / cv_rms_before; unobservable last)
   std::vector<UnobservableFamily> unobservable;  // families with no observable candidate
   Verdict verdict;
   std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"
@@ -151,5 +215,16 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
 // kTooFewPoints when the base design has no residual degrees of freedom.
 Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                  const PointSet& measured, const DiagnosisOptions& options = {});
+
+// The "sim" is the point set `reference` (any placement, labelled by feature, the same piece):
+// the gap is measured minus reference point by point, associated as described at the top of
+// this file, with the re-alignment fitted; the base set joins the catalogue as the
+// `location_errors` candidate. options.reference must be empty. Measured points without a
+// reference point within options.reference_match_mm, and points of either file no cut
+// reaches, are skipped and listed in skipped_points (reference ones prefixed "reference: ").
+// Errors: those of Diagnose for either file; kInvalidArgument with options.reference set.
+Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                              const PointSet& measured, const PointSet& reference,
+                                              const DiagnosisOptions& options = {});
 
 }  // namespace tpcal::pipeline

@@ -60,6 +60,20 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
   gap["noise_sigma_um"] = r.noise_sigma_um;
   gap["standing_out"] = r.standing_out;
   j["gap"] = gap;
+  j["cross_validation"] = {{"method", "leave-one-feature-out"},
+                           {"base_cv_rms_um", r.cv_rms_um},
+                           {"base_press_rms_um", r.press_rms_um},
+                           {"n_features", r.n_features},
+                           {"features_held_out", r.cv_features},
+                           {"not_held_out", r.cv_not_held_out},
+                           {"not_held_out_reason",
+                            "the feature's points alone determine a direction of the base model and re-alignment: "
+                            "the fit without it cannot predict it"}};
+  if (r.reference_match)
+    j["reference_match"] = {{"matched_by_order", r.reference_match->matched_by_order},
+                            {"matched_by_nearest", r.reference_match->matched_by_nearest},
+                            {"max_offset_mm", r.reference_match->max_offset_mm},
+                            {"unmatched", r.reference_match->unmatched}};
   json cands = json::array();
   for (const auto& c : r.candidates) {
     json e;
@@ -72,6 +86,12 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
     e["parameters"] = ParametersJson(c.parameters);
     e["max_abs_after_um"] = c.max_abs_after_um;
     e["cv_shrink_pct"] = c.cv_shrink_pct;
+    e["cv_method"] = c.cv_method;
+    if (!c.cv_method_reason.empty()) e["cv_method_reason"] = c.cv_method_reason;
+    e["cv_features"] = c.cv_features;
+    e["cv_not_held_out"] = c.cv_not_held_out;
+    e["press_rms_before_um"] = c.press_rms_before_um;
+    e["press_rms_after_um"] = c.press_rms_after_um;
     e["observable"] = c.observable;
     e["n_parameters"] = c.n_columns;
     e["rank"] = c.rank;
@@ -114,6 +134,17 @@ std::string DiagnosisText(const DiagnosisResult& r) {
   o += fmt::format("gap: rms {:.3f} um, max |gap| {:.3f} um over {} points; noise sigma {:.3f} um; "
                    "drift with time {:+.3f} +- {:.3f} um/h\n",
                    r.rms_um, r.max_abs_um, r.n_points, r.noise_sigma_um, r.drift_um_per_h, r.drift_u_um_per_h);
+  if (r.reference_match)
+    o += fmt::format("reference points matched: {} by order within their feature, {} by nearest nominal position "
+                     "(largest offset {:.3f} mm), {} measured point(s) without a reference point\n",
+                     r.reference_match->matched_by_order, r.reference_match->matched_by_nearest,
+                     r.reference_match->max_offset_mm, r.reference_match->unmatched);
+  o += fmt::format("cross-validation: leave one feature out, {} of {} features held out; base model CV rms {:.3f} um "
+                   "(leave-one-point-out PRESS {:.3f} um)\n",
+                   r.cv_features, r.n_features, r.cv_rms_um, r.press_rms_um);
+  if (!r.cv_not_held_out.empty())
+    o += fmt::format("  not held out (their points alone fix a direction of the base model): {}\n",
+                     fmt::join(r.cv_not_held_out, " "));
   if (r.standing_out.empty()) {
     o += "no group stands out beyond noise\n";
   } else {
@@ -121,13 +152,16 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     for (const auto& s : r.standing_out) o += " [" + s + "]";
     o += "\n";
   }
-  o += fmt::format("\n{:<20} {:<62} {:>5} {:>9} {:>8} {:>9} {:>9} {:>9} {}\n", "family", "candidate", "rank",
-                   "rms_after", "shrink%", "cv_before", "cv_after", "p", "");
+  o += fmt::format("\n{:<20} {:<62} {:>5} {:>9} {:>8} {:>9} {:>9} {:>5} {:>9} {:>9} {}\n", "family", "candidate", "rank",
+                   "rms_after", "shrink%", "cv_before", "cv_after", "cv_ft", "press_aft", "p", "");
   for (const auto& c : r.candidates) {
-    o += fmt::format("{:<20} {:<62.62} {:>5} {:>9.3f} {:>8.1f} {:>9.3f} {:>9.3f} {:>9.2g} {}\n", c.family, c.name,
-                     c.rank, c.rms_after_um, c.shrink_pct, c.cv_rms_before_um, c.cv_rms_after_um, c.p_value,
-                     c.significant ? "*" : (c.observable ? "" : "unobservable"));
+    o += fmt::format("{:<20} {:<62.62} {:>5} {:>9.3f} {:>8.1f} {:>9.3f} {:>9.3f} {:>5} {:>9.3f} {:>9.2g} {}\n", c.family,
+                     c.name, c.rank, c.rms_after_um, c.shrink_pct, c.cv_rms_before_um, c.cv_rms_after_um, c.cv_method == "leave-one-feature-out" ? fmt::format("{}", c.cv_features) : std::string("pt"),
+                     c.press_rms_after_um, c.p_value, c.significant ? "*" : (c.observable ? "" : "unobservable"));
   }
+  o += "(cv_* leave one feature out over the cv_ft features the base and the candidate's fit hold out, or leave one "
+       "point out (pt) when no held-out feature carries the effect or the effect makes one of the base's held-out "
+       "features unholdable; press_aft leave one point out; pt candidates are ranked against the others by PRESS)\n";
   o += fmt::format("\nverdict: {} ({}), shrink {:.1f} % in-sample, {:.1f} % cross-validated\n", r.verdict.family,
                    r.verdict.name, r.verdict.shrink_pct, r.verdict.cv_shrink_pct);
   if (!r.verdict.indistinguishable_from.empty()) {
@@ -142,6 +176,9 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     for (const auto& p : best.parameters)
       o += fmt::format("    {:<28} {:>10.4g} +- {:<10.3g} {}{}\n", p.name, p.value, p.u, p.unit,
                        p.identifiable ? "" : " (not identifiable alone)");
+    if (best.cv_method != "leave-one-feature-out")
+      o += fmt::format("  cross-validated by {} ({}); not held out with this effect: {}\n", best.cv_method,
+                       best.cv_method_reason, fmt::join(best.cv_not_held_out, " "));
     if (!best.base_shift.empty()) {
       o += "  change of the identified machine errors when it is modelled:\n";
       for (const auto& s : best.base_shift)

@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis_json.h"
 #include "pipeline/diagnosis_validate.h"
+#include "testpieces/probing_plan.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -128,6 +130,173 @@ TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
       EXPECT_NEAR(p.value, 18.2, 0.05);
     }
   }
+}
+
+// Point reference: the "sim" is a point file simulated from the same machine errors (another
+// placement and noise draw), the "real" the measured one. The gap is the difference of two
+// noise draws: RMS sigma sqrt(2) sqrt((n - 6) / n) (re-alignment fitted), verdict none.
+// Tolerance: the sampling scatter of an RMS of n ~ 350 values is 1 / sqrt(2 n) ~ 4 % relative;
+// 20 % allows > 4 sd.
+TEST(Diagnosis, PointReferenceFromTheSameErrorsGivesNoneAndNoiseGap) {
+  const Fixture f = Make();
+  constexpr double kNoise_um = 1.0;
+  const auto errors = Table2(f.machine);
+  auto measured = Simulate(f, errors, kNoise_um, 21);
+  auto reference = Simulate(f, errors, kNoise_um, 22);
+  ASSERT_TRUE(measured.ok() && reference.ok());
+  auto d = DiagnoseAgainstPoints(f.piece, f.machine, measured->points, reference->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->verdict.family, "none");
+  ASSERT_TRUE(d->reference_match.has_value());
+  EXPECT_EQ(d->reference_match->unmatched, 0);
+  EXPECT_EQ(d->reference_match->matched_by_order + d->reference_match->matched_by_nearest, d->n_points);
+  EXPECT_LT(d->reference_match->max_offset_mm, 0.1);  // same plan: offsets are the errors' shifts (um)
+  EXPECT_EQ(d->base_columns, 6);                       // only the re-alignment is fitted
+  const double expected = kNoise_um * std::sqrt(2.0) * std::sqrt(1.0 - 6.0 / d->n_points);
+  EXPECT_NEAR(d->rms_um, expected, 0.2 * expected);
+  for (const auto& c : d->candidates) EXPECT_FALSE(c.significant) << c.name;
+  // Reference errors equal to the measured piece's: location_errors explains nothing beyond noise.
+  EXPECT_TRUE(std::any_of(d->candidates.begin(), d->candidates.end(),
+                          [](const CandidateResult& c) { return c.family == "location_errors"; }));
+}
+
+// Reference files that differ in count: every 4th point of S1 dropped from the reference. S1 is
+// then matched by nearest nominal position; the measured points whose partner is gone have no
+// reference point within 1 mm (the plan spacing on S1 is far larger) and are skipped and listed.
+TEST(Diagnosis, PointReferenceWithMissingPointsMatchesByNearestAndSkips) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine);
+  auto measured = Simulate(f, errors, 1.0, 25);
+  auto reference = Simulate(f, errors, 1.0, 26);
+  ASSERT_TRUE(measured.ok() && reference.ok());
+  PointSet thinned = reference->points;
+  const auto s1 = thinned.IndicesOf("S1");
+  ASSERT_GE(s1.size(), 8u);
+  std::vector<bool> drop(thinned.size(), false);
+  int dropped = 0;
+  for (std::size_t k = 0; k < s1.size(); k += 4) drop[s1[k]] = true, ++dropped;
+  PointSet kept = thinned;
+  kept.xyz_mm.clear();
+  kept.normal.clear();
+  kept.feature.clear();
+  kept.line.clear();
+  kept.attributes.clear();
+  for (std::size_t i = 0; i < thinned.size(); ++i) {
+    if (drop[i]) continue;
+    kept.xyz_mm.push_back(thinned.xyz_mm[i]);
+    if (!thinned.normal.empty()) kept.normal.push_back(thinned.normal[i]);
+    kept.feature.push_back(thinned.feature[i]);
+    if (!thinned.line.empty()) kept.line.push_back(thinned.line[i]);
+  }
+  auto d = DiagnoseAgainstPoints(f.piece, f.machine, measured->points, kept);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_TRUE(d->reference_match.has_value());
+  EXPECT_EQ(d->reference_match->unmatched, dropped);
+  EXPECT_EQ(d->reference_match->matched_by_nearest, static_cast<int>(s1.size()) - dropped);
+  EXPECT_LT(d->reference_match->max_offset_mm, 0.1);
+  EXPECT_EQ(d->n_points, static_cast<int>(measured->points.size()) - dropped);
+  EXPECT_GE(d->skipped_points.size(), static_cast<std::size_t>(dropped));
+  EXPECT_EQ(d->verdict.family, "none");
+}
+
+// The same reference against a piece cut with a withheld drift: the gap is the drift.
+TEST(Diagnosis, PointReferenceNamesAWithheldDrift) {
+  const Fixture f = Make();
+  auto measured = Simulate(f, Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_Y0A, K_um: 12, tau_s: 2400}\n"),
+                           0.5, 23);
+  auto reference = Simulate(f, Table2(f.machine), 0.5, 24);
+  ASSERT_TRUE(measured.ok() && reference.ok());
+  DiagnosisOptions o;
+  o.reference_name = "simulated.csv";
+  auto d = DiagnoseAgainstPoints(f.piece, f.machine, measured->points, reference->points, o);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->verdict.family, "thermal_drift");
+  EXPECT_GT(d->candidates.front().cv_shrink_pct, 30.0);
+  EXPECT_NE(d->base_model.find("simulated.csv"), std::string::npos);
+  // Reference machine errors and a reference point file together are refused.
+  o.reference = Table2(f.machine);
+  EXPECT_FALSE(DiagnoseAgainstPoints(f.piece, f.machine, measured->points, reference->points, o).ok());
+}
+
+// Feature cross-validation in the diagnosis: cv_* are leave-one-feature-out over the features
+// each candidate can hold out (the same set before and after), PRESS kept beside them.
+TEST(Diagnosis, CrossValidationHoldsOutFeatures) {
+  const Fixture f = Make();
+  auto sim = Simulate(f, Table2(f.machine), 1.0, 31);
+  ASSERT_TRUE(sim.ok());
+  auto d = Diagnose(f.piece, f.machine, sim->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->n_features, 30);  // S_R, B_R, H1..H16, S1..S6, B1..B6
+  EXPECT_EQ(d->cv_features + static_cast<int>(d->cv_not_held_out.size()), d->n_features);
+  // S5 alone carries a direction of the base model (the other features hold 0.4 % of its
+  // information, below holdout_tolerance 5 %): reported, not held out. Every other feature is.
+  EXPECT_EQ(d->cv_not_held_out, std::vector<std::string>{"S5"});
+  // The servo candidates act on the groove S_R only, which they make unholdable: no held-out
+  // feature carries them, so they are judged by PRESS and say so.
+  bool saw_servo = false;
+  for (const auto& c : d->candidates) {
+    if (c.family != "servo_reversal") continue;
+    saw_servo = true;
+    EXPECT_EQ(c.cv_method, "leave-one-point-out") << c.name;
+    EXPECT_EQ(c.cv_rms_after_um, c.press_rms_after_um);
+  }
+  EXPECT_TRUE(saw_servo);
+  for (const auto& c : d->candidates) {
+    EXPECT_LE(c.cv_features, d->cv_features) << c.name;
+    EXPECT_EQ(c.cv_features + static_cast<int>(c.cv_not_held_out.size()), d->n_features) << c.name;
+    for (const auto& name : d->cv_not_held_out)  // the base's unholdable features stay unholdable
+      EXPECT_NE(std::find(c.cv_not_held_out.begin(), c.cv_not_held_out.end(), name), c.cv_not_held_out.end()) << c.name;
+    EXPECT_GT(c.press_rms_before_um, 0.0);
+    // A prediction from fewer points is no better than the in-sample fit.
+    if (c.cv_features > 0) {
+      EXPECT_GE(c.cv_rms_after_um, 0.9 * c.rms_after_um) << c.name;
+    }
+  }
+  const auto j = nlohmann::json::parse(DiagnosisJson(*d));
+  EXPECT_EQ(j["cross_validation"]["method"], "leave-one-feature-out");
+  EXPECT_TRUE(j["candidates"][0].contains("press_rms_after_um"));
+  EXPECT_TRUE(j["candidates"][0].contains("cv_not_held_out"));
+}
+
+// A straightness error along Z (cubic table over the Z range the plan uses, linear trend removed):
+// the straightness candidates' polynomial columns are fixed by the features at the ends of the Z
+// range, which they make unholdable although the base model holds them out. Their feature-CV
+// would then cover fewer features than the base's (leaving out those where they extrapolate
+// worst), so they are judged by PRESS, say so, and are compared with every other candidate by
+// PRESS; the verdict is still the straightness.
+TEST(Diagnosis, CandidateThatMakesBaseFeaturesUnholdableIsJudgedByPress) {
+  const Fixture f = Make();
+  auto plan = testpieces::MakeProbingPlan(f.piece);
+  ASSERT_TRUE(plan.ok());
+  double lo = 1e300, hi = -1e300;
+  for (const auto& pp : plan->points) lo = std::min(lo, pp.cut.axes.z_mm), hi = std::max(hi, pp.cut.axes.z_mm);
+  ASSERT_GT(hi - lo, 10.0);
+  const auto at = [&](double u) { return lo - 1.0 + (hi - lo + 2.0) * u; };
+  // A bow with a small wave (its linear part is squareness, which the base model absorbs).
+  const std::string effect = fmt::format(
+      "effects:\n  - linear_error_motion: {{symbol: E_XZ, positions_mm: [{}, {}, {}, {}, {}], "
+      "values_um: [20, -5, -20, -10, 15], interpolation: cubic}}\n",
+      at(0), at(0.25), at(0.5), at(0.75), at(1));
+  auto sim = Simulate(f, Table2(f.machine, effect), 0.5, 41);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto d = Diagnose(f.piece, f.machine, sim->points);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_EQ(d->verdict.family, "linear_straightness") << DiagnosisText(*d);
+  const auto& best = d->candidates.front();
+  EXPECT_EQ(best.cv_method, "leave-one-point-out");
+  EXPECT_FALSE(best.cv_method_reason.empty());
+  EXPECT_LT(best.cv_features, d->cv_features);  // it loses features the base holds out
+  EXPECT_EQ(best.cv_rms_before_um, best.press_rms_before_um);
+  EXPECT_EQ(best.cv_rms_after_um, best.press_rms_after_um);
+  EXPECT_GT(best.cv_shrink_pct, 30.0) << DiagnosisText(*d);
+  for (const auto& c : d->candidates) {  // feature-tested candidates hold out exactly the base's features
+    if (c.cv_method == "leave-one-feature-out") {
+      EXPECT_EQ(c.cv_features, d->cv_features) << c.name;
+    }
+  }
+  const auto j = nlohmann::json::parse(DiagnosisJson(*d));
+  EXPECT_EQ(j["candidates"][0]["cv_method"], "leave-one-point-out");
+  EXPECT_TRUE(j["candidates"][0].contains("cv_method_reason"));
 }
 
 // The validation harness on a small fixed-seed run: the targets where observable.

@@ -62,7 +62,11 @@ struct ValidationTrial {
   std::string verdict;
   std::vector<std::string> indistinguishable_from;
   double effect_rms_um = 0.0;     // RMS of the visible signature
-  double cv_explained = 0.0;      // (cv_before^2 - cv_after^2) / effect_rms^2 of the verdict (0 for none)
+  // Of the verdict (0 for none): (cv_before^2 - cv_after^2) / cv_effect^2, cv_effect = the same CV
+  // figure (cv_method, held-out features) of the noise-free visible signature (diagnosis_validate.cc).
+  double cv_explained = 0.0;
+  double press_explained = 0.0;   // the same with the leave-one-point-out figures, for every verdict
+  std::string cv_method;          // the verdict's (empty for none)
   double seconds = 0.0;           // diagnosis time
 };
 
@@ -76,6 +80,8 @@ struct ValidationSummary {
   std::map<std::string, std::map<double, double>> top1_by_magnitude;  // family -> magnitude -> rate (observable)
   double false_alarm_rate = 0.0;                       // verdict != none on effect-free pieces
   double median_cv_explained = 0.0;                    // magnitude >= 5, observable, effect present
+  double median_press_explained = 0.0;                 // the same, leave-one-point-out figures
+  std::map<std::string, int> verdict_cv_method;        // correct verdicts (>= 5x, observable) per cv_method
   double median_diagnosis_s = 0.0;
   int simulation_failures = 0;                         // trials the simulator could not produce (not scored)
 };

@@ -1,13 +1,15 @@
-// tpcal diagnose POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--reference ERRORS.yaml]
+// tpcal diagnose POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--reference ERRORS.yaml|REF_POINTS]
 //                 [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -125,20 +127,37 @@ int RunDiagnose(const DiagnoseArgs& args) {
   pipeline::DiagnosisOptions options;
   options.noise_um = args.noise_um;
   options.alpha = args.alpha;
+  // --reference: machine errors (.yaml/.yml) or a point file (an extension ReadPoints knows).
+  std::optional<PointSet> reference_points;
   if (!args.reference.empty()) {
-    auto ref = kinematics::LoadErrorState(args.reference, setup->machine);
-    if (!ref.ok()) return ReportError(ref.status());
-    options.reference = std::move(*ref);
+    std::string ext = std::filesystem::path(args.reference).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     options.reference_name = std::filesystem::path(args.reference).filename().string();
+    if (ext == ".yaml" || ext == ".yml") {
+      auto ref = kinematics::LoadErrorState(args.reference, setup->machine);
+      if (!ref.ok()) return ReportError(ref.status());
+      options.reference = std::move(*ref);
+    } else if (pipeline::PointFormatFromExtension(args.reference) != pipeline::PointFormat::kAuto) {
+      auto ref = pipeline::ReadPoints(args.reference);
+      if (!ref.ok()) return ReportError(ref.status());
+      reference_points = std::move(*ref);
+    } else {
+      return ReportError(Status(StatusCode::kInvalidArgument,
+                                "--reference " + args.reference +
+                                    ": expected machine errors (.yaml, .yml) or a point file (.csv, .ply, .pcd, .xyz, .txt)"));
+    }
   }
   Info(fmt::format("tpcal diagnose: {} points of the {} from {}", points->size(), setup->piece.name, args.points));
-  auto result = pipeline::Diagnose(setup->piece, setup->machine, *points, options);
+  auto result = reference_points
+                    ? pipeline::DiagnoseAgainstPoints(setup->piece, setup->machine, *points, *reference_points, options)
+                    : pipeline::Diagnose(setup->piece, setup->machine, *points, options);
   if (!result.ok()) return ReportError(result.status());
   const std::map<std::string, std::string> inputs = {
       {"points", args.points},
       {"testpiece", args.config.empty() ? args.testpiece : args.config},
       {"machine", args.machine.empty() ? "nominal" : args.machine},
       {"reference", args.reference},
+      {"reference_kind", args.reference.empty() ? "" : (reference_points ? "points" : "machine errors")},
       {"noise_um", fmt::format("{}", args.noise_um)},
       {"alpha", fmt::format("{}", args.alpha)}};
   const std::string json = pipeline::DiagnosisJson(*result, inputs);
@@ -171,7 +190,13 @@ Command RegisterDiagnose(CLI::App& app) {
       "the gap (measured minus model) is summarised per feature, operation, A index, machining time and C harmonic;\n"
       "a catalogue of unmodelled effects (thermal drift, straightness, positioning, rotary error motion and\n"
       "positioning, tool deflection, servo reversal, probe radius) is ranked by cross-validated gap reduction\n"
-      "and a nested F-test; `none` when nothing beats noise, with the families the data cannot tell apart.\n"
+      "(leave one feature out: each feature predicted by the fit on the others; features whose points alone fix a\n"
+      "direction of the model are not held out and are listed) and a nested F-test; `none` when nothing beats\n"
+      "noise, with the families the data cannot tell apart.\n"
+      "--reference REF.csv (a point file, e.g. the piece simulated from known errors): the gap is measured minus\n"
+      "reference point by point, each file in its own datum frame, points matched within their feature by order\n"
+      "when the counts match and every pair's nominal positions lie within 1 mm, otherwise by nearest nominal\n"
+      "position (within 1 mm, else the point is skipped); only the re-alignment is fitted.\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   sub->add_option("POINTS", args->points, "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm)");
   sub->add_option("--testpiece", args->testpiece,
@@ -179,7 +204,9 @@ Command RegisterDiagnose(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--config", args->config, "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME");
   sub->add_option("--machine", args->machine, "machine model YAML (default: nominal ac_table or xyz)");
-  sub->add_option("--reference", args->reference, "machine errors YAML (tpcal.errors/1) used as the sim, not refitted");
+  sub->add_option("--reference", args->reference,
+                  "the sim instead of the fitted base: machine errors YAML (tpcal.errors/1, .yaml/.yml), not refitted, "
+                  "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point");
   sub->add_option("--noise-um", args->noise_um, "known CMM noise sigma (um) for 'beyond noise'; 0 = estimated")
       ->capture_default_str();
   sub->add_option("--alpha", args->alpha, "family-wise false-alarm probability of the verdict")->capture_default_str();
