@@ -21,6 +21,7 @@
 #include "pipeline/diagnosis_json.h"
 #include "pipeline/diagnosis_validate.h"
 #include "pipeline/point_io.h"
+#include "pipeline/raw_scan_labeling.h"
 #include "testpieces/piece_config.h"
 
 namespace tpcal::cli {
@@ -124,6 +125,12 @@ int RunDiagnose(const DiagnoseArgs& args) {
   if (args.points.empty()) return ReportError(Status(StatusCode::kInvalidArgument, "diagnose: POINTS is required (or --validate)"));
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
+  if (!points->has_labels()) {  // a raw scan: assign its points to nominal features first
+    auto labelled = pipeline::LabelRawScan(setup->piece, *points);
+    if (!labelled.ok()) return ReportError(labelled.status());
+    Info("raw scan labelled: " + labelled->BriefReport());
+    *points = std::move(labelled->labelled);
+  }
   pipeline::DiagnosisOptions options;
   options.noise_um = args.noise_um;
   options.alpha = args.alpha;

@@ -13,6 +13,7 @@
 #include "pipeline/identify_json.h"
 #include "pipeline/piece_setup.h"
 #include "pipeline/point_io.h"
+#include "pipeline/raw_scan_labeling.h"
 
 namespace tpcal::cli {
 namespace {
@@ -76,6 +77,12 @@ int RunIdentify(const IdentifyArgs& args) {
   if (!setup.ok()) return ReportError(setup.status());
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
+  if (!points->has_labels()) {  // a raw scan: assign its points to nominal features first
+    auto labelled = pipeline::LabelRawScan(setup->piece, *points);
+    if (!labelled.ok()) return ReportError(labelled.status());
+    Info("raw scan labelled: " + labelled->BriefReport());
+    *points = std::move(labelled->labelled);
+  }
 
   pipeline::IdentifyStageOptions options;
   options.parameters = args.parameters;
