@@ -39,7 +39,7 @@ TEST(FitCircle2, CertifiedReferenceData) {
   testing::WorstCase worst("circle2");
   for (double radius_mm : {1.0, 10.0, 100.0, 500.0}) {
     for (double arc_deg : {360.0, 180.0, 90.0, 45.0, 20.0}) {
-      for (std::size_t n : {4u, 10u, 100u, 1000u}) {
+      for (std::size_t n : {4u, 5u, 10u, 100u, 1000u, 1001u}) {
         for (double dev_mm : {0.0, 0.001, 0.01}) {
           const double arc = DegToRad(arc_deg);
           if (!CertifiableDeviation(dev_mm, radius_mm, arc)) continue;
@@ -86,7 +86,7 @@ TEST(FitCircle3, CertifiedReferenceData) {
   testing::WorstCase worst("circle3");
   for (double radius_mm : {1.0, 10.0, 100.0, 500.0}) {
     for (double arc_deg : {360.0, 90.0, 20.0}) {
-      for (std::size_t n : {4u, 20u, 1000u}) {
+      for (std::size_t n : {4u, 5u, 20u, 1000u, 1001u}) {
         for (double dev_mm : {0.0, 0.001}) {
           const double arc = DegToRad(arc_deg);
           if (!CertifiableDeviation(dev_mm, radius_mm, arc)) continue;

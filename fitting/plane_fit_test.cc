@@ -37,7 +37,7 @@ TEST(FitPlane, CertifiedReferenceData) {
   testing::WorstCase worst("plane");
   for (double size_mm : {1.0, 10.0, 100.0, 500.0}) {
     for (double aspect : {1.0, 0.01}) {
-      for (std::size_t n : {4u, 10u, 1000u}) {
+      for (std::size_t n : {4u, 7u, 10u, 1000u, 1001u}) {
         for (double dev_mm : {0.0, 0.001, 0.01}) {
           // Certified only while the deviations are small against the patch (else the true
           // plane is a saddle point of the LS cost): at most 1% of the narrow side.

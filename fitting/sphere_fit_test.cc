@@ -27,7 +27,7 @@ TEST(FitSphere, CertifiedReferenceData) {
   testing::WorstCase worst("sphere");
   for (double radius_mm : {1.0, 10.0, 100.0, 500.0}) {
     for (double cap_deg : {180.0, 90.0, 45.0, 20.0}) {
-      for (std::size_t n : {4u, 10u, 100u, 1000u}) {
+      for (std::size_t n : {4u, 7u, 10u, 100u, 1000u, 1001u}) {
         for (double dev_mm : {0.0, 0.001, 0.01}) {
           const double cap = DegToRad(cap_deg);
           if (dev_mm > std::min(0.01, 0.01 * radius_mm * cap * cap)) continue;

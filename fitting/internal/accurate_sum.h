@@ -38,13 +38,24 @@ template <std::size_t N, typename Terms>
 std::array<double, N> BlockSums(std::size_t n, Terms&& terms) {
   std::array<NeumaierSum, N> total{};
   for (std::size_t b = 0; b < n; b += kSumBlock) {
-    double acc[N] = {};
+    // Two interleaved partial sums per term: the adds of consecutive items do not wait on
+    // each other (the loop is otherwise bound by the add latency, not by memory).
+    double acc0[N] = {}, acc1[N] = {};
     const std::size_t e = std::min(n, b + kSumBlock);
-    for (std::size_t i = b; i < e; ++i) {
-      const std::array<double, N> t = terms(i);
-      for (std::size_t k = 0; k < N; ++k) acc[k] += t[k];
+    std::size_t i = b;
+    for (; i + 1 < e; i += 2) {
+      const std::array<double, N> t0 = terms(i);
+      const std::array<double, N> t1 = terms(i + 1);
+      for (std::size_t k = 0; k < N; ++k) {
+        acc0[k] += t0[k];
+        acc1[k] += t1[k];
+      }
     }
-    for (std::size_t k = 0; k < N; ++k) total[k].Add(acc[k]);
+    if (i < e) {
+      const std::array<double, N> t0 = terms(i);
+      for (std::size_t k = 0; k < N; ++k) acc0[k] += t0[k];
+    }
+    for (std::size_t k = 0; k < N; ++k) total[k].Add(acc0[k] + acc1[k]);
   }
   std::array<double, N> out{};
   for (std::size_t k = 0; k < N; ++k) out[k] = total[k].Total();
@@ -64,17 +75,28 @@ ValueSums SumValues(std::size_t n, Value&& value, double* __restrict out) {
   ValueSums s;
   for (std::size_t b = 0; b < n; b += kSumBlock) {
     const std::size_t e = std::min(n, b + kSumBlock);
-    double acc = 0.0, lo = s.min, hi = s.max;
-    for (std::size_t i = b; i < e; ++i) {
+    // Four interleaved partial sums, minima and maxima (latency, as in BlockSums).
+    double acc[4] = {}, lo[4] = {s.min, s.min, s.min, s.min}, hi[4] = {s.max, s.max, s.max, s.max};
+    std::size_t i = b;
+    for (; i + 3 < e; i += 4) {
+      for (std::size_t l = 0; l < 4; ++l) {
+        const double v = value(i + l);
+        acc[l] += v * v;
+        lo[l] = std::min(lo[l], v);
+        hi[l] = std::max(hi[l], v);
+        if (out != nullptr) out[i + l] = v;
+      }
+    }
+    for (; i < e; ++i) {
       const double v = value(i);
-      acc += v * v;
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+      acc[0] += v * v;
+      lo[0] = std::min(lo[0], v);
+      hi[0] = std::max(hi[0], v);
       if (out != nullptr) out[i] = v;
     }
-    total.Add(acc);
-    s.min = lo;
-    s.max = hi;
+    total.Add((acc[0] + acc[1]) + (acc[2] + acc[3]));
+    s.min = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
+    s.max = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
   }
   s.sum_sq = total.Total();
   return s;

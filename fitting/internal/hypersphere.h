@@ -56,6 +56,8 @@ class HypersphereModel {
   Vec ToScaled(const Vec& p_mm) const { return (p_mm - origin_) * inv_scale_; }
   double ToScaledCoordinate(const Vec& p_mm, int t) const { return (p_mm[t] - origin_[t]) * inv_scale_; }
   Vec ToMm(const Vec& q) const { return origin_ + q * scale_; }
+  const Vec& origin_mm() const { return origin_; }
+  double inv_scale() const { return inv_scale_; }
 
   Linearization<kParams> Linearize(const State& s, double* residuals_mm, Eigen::MatrixXd* jacobian) const {
     if (jacobian == nullptr) return LinearizeBlocks(s, residuals_mm);
@@ -76,50 +78,65 @@ class HypersphereModel {
         scale_, residuals_mm, jacobian, PVec::Ones());
   }
 
-  // The same sums as Linearize without a Jacobian, computed per block of kSumBlock points as
-  // whole-array operations (coordinates gathered into columns, then square roots, reciprocals
-  // and the D (D + 1) / 2 + 2 D + 2 distinct sums vectorised): J^T J and J^T r follow from
-  // j = (-(q - c)/rho, -1), so no per-point Jacobian row is formed. Block totals are added with
-  // Neumaier compensation, as BlockSums does.
+  // The same sums as Linearize without a Jacobian, in one fused loop over the points, two
+  // points at a time in SIMD lanes (Eigen::Array2d: packed square roots, reciprocals and
+  // products, two lanes of every partial sum): J^T J and J^T r follow from
+  // j = (-(q - c)/rho, -1), so no per-point Jacobian row is formed. Per block of kSumBlock
+  // points the lanes are added and the block totals combined with Neumaier compensation, as
+  // BlockSums does.
   Linearization<kParams> LinearizeBlocks(const State& s, double* __restrict residuals_mm) const {
-    using Block = Eigen::Array<double, Eigen::Dynamic, 1, 0, static_cast<int>(kSumBlock), 1>;
+    using V = Eigen::Array2d;
     constexpr int kSums = D * (D + 1) / 2 + 2 * D + 2;  // sum j_t j_u (t <= u), sum j_t, sum j_t r, sum r, sum r^2
     std::array<NeumaierSum, kSums> total{};
     const std::size_t n = points_.size();
-    double r_min = std::numeric_limits<double>::infinity();
-    double r_max = -r_min;
-    std::array<Block, D> q;
-    Block rho, inv, r;
+    const double* __restrict xyz = points_.data()->data();  // D doubles per point, contiguous
+    const double inv_scale = inv_scale_, radius = s.radius, scale = scale_;
+    V lo = V::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (std::size_t b = 0; b < n; b += kSumBlock) {
-      const auto m = static_cast<Eigen::Index>(std::min(n, b + kSumBlock) - b);
-      for (int t = 0; t < D; ++t) {
-        q[t].resize(m);
-        const double o = origin_[t], c = s.center[t];
-        for (Eigen::Index i = 0; i < m; ++i) q[t][i] = (points_[b + static_cast<std::size_t>(i)][t] - o) * inv_scale_ - c;
-      }
-      rho = q[0].square();
-      for (int t = 1; t < D; ++t) rho += q[t].square();
-      rho = rho.sqrt();
-      // d r / d c = -(q - c)/|q - c|; at the centre itself any unit vector is a subgradient,
-      // zero keeps the sums finite.
-      inv = (rho > 0.0).select(rho.inverse(), 0.0);
-      r = rho - s.radius;
-      for (int t = 0; t < D; ++t) q[t] *= -inv;  // now j_t
-      std::array<double, kSums> acc;
-      int k = 0;
-      for (int t = 0; t < D; ++t) {
-        for (int u = t; u < D; ++u) acc[static_cast<std::size_t>(k++)] = (q[t] * q[u]).sum();
-      }
-      for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] = q[t].sum();
-      for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] = (q[t] * r).sum();
-      acc[static_cast<std::size_t>(k++)] = r.sum();
-      acc[static_cast<std::size_t>(k)] = r.square().sum();
-      for (std::size_t a = 0; a < acc.size(); ++a) total[a].Add(acc[a]);
-      r_min = std::min(r_min, r.minCoeff());
-      r_max = std::max(r_max, r.maxCoeff());
-      if (residuals_mm != nullptr) {
-        Eigen::Map<Eigen::ArrayXd>(residuals_mm + b, m) = r * scale_;
-      }
+      const std::size_t e = std::min(n, b + kSumBlock);
+      std::array<V, kSums> acc;
+      for (auto& a : acc) a.setZero();
+      // Lanes i and i + 1; `valid` = 1 lane (the odd last point of the data) zeroes lane 1.
+      auto add = [&](std::size_t i, int valid) {
+        std::array<V, D> j;
+        for (int t = 0; t < D; ++t) {
+          // The same rounding as Linearize (the Jacobian pass): (p - origin) / scale - c.
+          const V p{xyz[i * D + t], valid == 2 ? xyz[(i + 1) * D + t] : xyz[i * D + t]};
+          j[static_cast<std::size_t>(t)] = (p - origin_[t]) * inv_scale - s.center[t];
+        }
+        V rho = j[0].square();
+        for (int t = 1; t < D; ++t) rho += j[static_cast<std::size_t>(t)].square();
+        rho = rho.sqrt();
+        // d r / d c = -(q - c)/|q - c|; at the centre itself (rho = 0, q - c = 0) any unit
+        // vector is a subgradient: the floor makes it 0 * -1e300 = 0 and keeps the sums finite
+        // (a packed division; a per-lane select would be scalarised).
+        V minus_inv = -(rho.max(1e-300).inverse());
+        V r = rho - radius;
+        if (valid == 1) {
+          minus_inv[1] = 0.0;
+          r[1] = r[0];  // duplicate lane 0 for min/max; its sums are masked below
+        }
+        for (int t = 0; t < D; ++t) j[static_cast<std::size_t>(t)] *= minus_inv;
+        if (residuals_mm != nullptr) {
+          residuals_mm[i] = r[0] * scale;
+          if (valid == 2) residuals_mm[i + 1] = r[1] * scale;
+        }
+        lo = lo.min(r);
+        hi = hi.max(r);
+        if (valid == 1) r[1] = 0.0;
+        int k = 0;
+        for (int t = 0; t < D; ++t) {
+          for (int u = t; u < D; ++u) acc[static_cast<std::size_t>(k++)] += j[static_cast<std::size_t>(t)] * j[static_cast<std::size_t>(u)];
+        }
+        for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] += j[static_cast<std::size_t>(t)];
+        for (int t = 0; t < D; ++t) acc[static_cast<std::size_t>(k++)] += j[static_cast<std::size_t>(t)] * r;
+        acc[static_cast<std::size_t>(k++)] += r;
+        acc[static_cast<std::size_t>(k)] += r.square();
+      };
+      std::size_t i = b;
+      for (; i + 1 < e; i += 2) add(i, 2);
+      if (i < e) add(i, 1);
+      for (int a = 0; a < kSums; ++a) total[static_cast<std::size_t>(a)].Add(acc[static_cast<std::size_t>(a)].sum());
     }
     // Assemble with j_D = -1 for the radius: J^T J = [[S_jj, -S_j], [-S_j^T, n]],
     // J^T r = [S_jr, -S_r], cost = S_rr.
@@ -133,8 +150,8 @@ class HypersphereModel {
     for (int t = 0; t < D; ++t) lin.jtr[t] = total[static_cast<std::size_t>(k++)].Total();
     lin.jtr[D] = -total[static_cast<std::size_t>(k++)].Total();
     lin.cost = total[static_cast<std::size_t>(k)].Total();
-    lin.r_min = r_min;
-    lin.r_max = r_max;
+    lin.r_min = lo.minCoeff();
+    lin.r_max = hi.maxCoeff();
     return lin;
   }
 
@@ -171,27 +188,39 @@ Result<typename HypersphereModel<D>::State> HyperStart(const HypersphereModel<D>
   using KVec = Eigen::Matrix<double, K, 1>;
   constexpr std::size_t kSums = K * (K + 1) / 2;
   const std::size_t m = (points_mm.size() + stride - 1) / stride;
-  // Moments of z = (|q|^2, q, 1) per block of kSumBlock points as whole-array operations
-  // (coordinates gathered into columns; vectorised products and sums), block totals with
+  // Moments of z = (|q|^2, q, 1) in one fused loop, two points at a time in SIMD lanes
+  // (Eigen::Array2d), lanes added per block of kSumBlock points and block totals combined with
   // Neumaier compensation as in BlockSums. The (1, 1) moment is the count.
-  using Block = Eigen::Array<double, Eigen::Dynamic, 1, 0, static_cast<int>(kSumBlock), 1>;
+  using V = Eigen::Array2d;
   std::array<NeumaierSum, kSums> total{};
-  std::array<Block, K - 1> z;  // |q|^2, q_0 .. q_{D-1}
   for (std::size_t b = 0; b < m; b += kSumBlock) {
-    const auto len = static_cast<Eigen::Index>(std::min(m, b + kSumBlock) - b);
-    for (int t = 0; t < D; ++t) {
-      Block& col = z[static_cast<std::size_t>(t + 1)];
-      col.resize(len);
-      for (Eigen::Index i = 0; i < len; ++i) col[i] = model.ToScaledCoordinate(points_mm[(b + static_cast<std::size_t>(i)) * stride], t);
-    }
-    z[0] = z[1].square();
-    for (int t = 1; t < D; ++t) z[0] += z[static_cast<std::size_t>(t + 1)].square();
-    std::size_t t = 0;
-    for (int r = 0; r < K - 1; ++r) {
-      for (int c = r; c < K - 1; ++c) total[t++].Add((z[static_cast<std::size_t>(r)] * z[static_cast<std::size_t>(c)]).sum());
-      total[t++].Add(z[static_cast<std::size_t>(r)].sum());
-    }
-    total[t].Add(static_cast<double>(len));
+    const std::size_t e = std::min(m, b + kSumBlock);
+    std::array<V, kSums - 1> acc;
+    for (auto& a : acc) a.setZero();
+    auto add = [&](std::size_t i, bool pair) {
+      const Vec& p0 = points_mm[i * stride];
+      const Vec& p1 = points_mm[(pair ? i + 1 : i) * stride];
+      std::array<V, K - 1> z;  // |q|^2, q_0 .. q_{D-1}
+      for (int t = 0; t < D; ++t) {  // packed (p - origin) / scale, as ToScaledCoordinate
+        const V p{p0[t], p1[t]};
+        z[static_cast<std::size_t>(t + 1)] = (p - model.origin_mm()[t]) * model.inv_scale();
+      }
+      z[0] = z[1].square();
+      for (int t = 1; t < D; ++t) z[0] += z[static_cast<std::size_t>(t + 1)].square();
+      if (!pair) {
+        for (auto& zz : z) zz[1] = 0.0;  // lane 1 of an odd last point counts nothing
+      }
+      std::size_t k = 0;
+      for (int r = 0; r < K - 1; ++r) {
+        for (int c = r; c < K - 1; ++c) acc[k++] += z[static_cast<std::size_t>(r)] * z[static_cast<std::size_t>(c)];
+        acc[k++] += z[static_cast<std::size_t>(r)];
+      }
+    };
+    std::size_t i = b;
+    for (; i + 1 < e; i += 2) add(i, true);
+    if (i < e) add(i, false);
+    for (std::size_t k = 0; k + 1 < kSums; ++k) total[k].Add(acc[k].sum());
+    total[kSums - 1].Add(static_cast<double>(e - b));
   }
   KMat mom;
   {
