@@ -615,4 +615,15 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
   return out;
 }
 
+Result<std::optional<RawScanLabeling>> LabelIfRawScan(const testpieces::TestPiece& piece, PointSet* points,
+                                                      const RawScanLabelingOptions& options) {
+  if (points->has_labels()) return std::optional<RawScanLabeling>();
+  auto labelled = LabelRawScan(piece, *points, options);
+  if (!labelled.ok()) return labelled.status();
+  *points = std::move(labelled->labelled);
+  labelled->labelled = PointSet{};
+  labelled->piece_feature.clear();
+  return std::optional<RawScanLabeling>(std::move(*labelled));
+}
+
 }  // namespace tpcal::pipeline

@@ -41,6 +41,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -105,5 +106,11 @@ struct RawScanLabeling {
 // `scan` in the CMM frame (labels ignored; normals used when present). Errors as described above.
 Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const PointSet& scan,
                                      const RawScanLabelingOptions& options = {});
+
+// What every command does with a point file: if `points` carries no labels (a raw scan), it is
+// replaced by its labelled points and the labelling summary is returned (its `labelled` and
+// `piece_feature` emptied); a labelled file is left as it is (std::nullopt). Errors: LabelRawScan's.
+Result<std::optional<RawScanLabeling>> LabelIfRawScan(const testpieces::TestPiece& piece, PointSet* points,
+                                                      const RawScanLabelingOptions& options = {});
 
 }  // namespace tpcal::pipeline

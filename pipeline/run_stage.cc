@@ -61,11 +61,8 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   std::optional<RawScanLabeling> raw_scan;
   if (!file->points.has_labels()) {  // a raw scan: assign points to nominal features first
     clock.Start("label");
-    auto labelled = LabelRawScan(setup->piece, file->points);
+    auto labelled = LabelIfRawScan(setup->piece, &file->points);
     if (!labelled.ok()) return labelled.status();
-    file->points = std::move(labelled->labelled);
-    labelled->labelled = PointSet{};
-    labelled->piece_feature.clear();
     raw_scan = std::move(*labelled);
   }
 

@@ -125,12 +125,9 @@ int RunDiagnose(const DiagnoseArgs& args) {
   if (args.points.empty()) return ReportError(Status(StatusCode::kInvalidArgument, "diagnose: POINTS is required (or --validate)"));
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
-  if (!points->has_labels()) {  // a raw scan: assign its points to nominal features first
-    auto labelled = pipeline::LabelRawScan(setup->piece, *points);
-    if (!labelled.ok()) return ReportError(labelled.status());
-    Info("raw scan labelled: " + labelled->BriefReport());
-    *points = std::move(labelled->labelled);
-  }
+  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);  // a raw scan: label it first
+  if (!labelled.ok()) return ReportError(labelled.status());
+  if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
   pipeline::DiagnosisOptions options;
   options.noise_um = args.noise_um;
   options.alpha = args.alpha;

@@ -77,12 +77,9 @@ int RunIdentify(const IdentifyArgs& args) {
   if (!setup.ok()) return ReportError(setup.status());
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
-  if (!points->has_labels()) {  // a raw scan: assign its points to nominal features first
-    auto labelled = pipeline::LabelRawScan(setup->piece, *points);
-    if (!labelled.ok()) return ReportError(labelled.status());
-    Info("raw scan labelled: " + labelled->BriefReport());
-    *points = std::move(labelled->labelled);
-  }
+  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);  // a raw scan: label it first
+  if (!labelled.ok()) return ReportError(labelled.status());
+  if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
 
   pipeline::IdentifyStageOptions options;
   options.parameters = args.parameters;
