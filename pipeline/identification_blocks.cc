@@ -3,6 +3,8 @@
 #include <map>
 #include <string>
 
+#include "pipeline/json_util.h"
+
 namespace tpcal::pipeline {
 namespace {
 
@@ -18,25 +20,15 @@ Json ParameterEstimateJson(const kinematics::ParameterEstimate& p) {
   j["iso_symbol"] = p.iso_symbol;
   j["identifiable"] = p.identifiable;
   j["unit"] = p.unit;
-  if (p.identifiable) {
-    j["value"] = p.value;
-    j["u"] = p.u;
-    j["ci95"] = Interval(p.ci95_low, p.ci95_high);
-  } else {
-    j["value"] = nullptr;
-    j["u"] = nullptr;
-    j["ci95"] = nullptr;
-  }
+  j["value"] = OrNull(p.identifiable, p.value);
+  j["u"] = OrNull(p.identifiable, p.u);
+  j["ci95"] = OrNull(p.identifiable, Interval(p.ci95_low, p.ci95_high));
   Json u = Json::object();
   for (const auto& m : p.uncertainties) {
     Json e;
-    if (m.available && p.identifiable) {
-      e["u"] = m.u;
-      e["ci95"] = Interval(m.ci95_low, m.ci95_high);
-    } else {
-      e["u"] = nullptr;
-      e["ci95"] = nullptr;
-    }
+    const bool known = m.available && p.identifiable;
+    e["u"] = OrNull(known, m.u);
+    e["ci95"] = OrNull(known, Interval(m.ci95_low, m.ci95_high));
     if (!m.message.empty()) e["message"] = m.message;
     u[kinematics::UncertaintyMethodName(m.method)] = e;
   }

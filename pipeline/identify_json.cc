@@ -72,7 +72,7 @@ std::string IdentificationJson(const IdentificationReport& report) {
       e["name"] = p.name;
       e["unit"] = p.unit;
       e["identifiable"] = p.identifiable;
-      if (p.identifiable) e["value"] = p.value; else e["value"] = nullptr;
+      e["value"] = OrNull(p.identifiable, p.value);
       ps.push_back(e);
     }
     c["parameters"] = ps;

@@ -17,6 +17,13 @@ nlohmann::ordered_json Vec(const Eigen::MatrixBase<Derived>& v) {
   return a;
 }
 
+// `value` when it is known, else null (a coefficient the data cannot determine is written as
+// null, never as a number).
+template <typename T>
+nlohmann::ordered_json OrNull(bool known, const T& value) {
+  return known ? nlohmann::ordered_json(value) : nlohmann::ordered_json(nullptr);
+}
+
 // {"rotation": [[r00, r01, r02], ...], "translation_mm": [x, y, z]}
 inline nlohmann::ordered_json RigidJson(const Rigid3& t) {
   nlohmann::ordered_json rot = nlohmann::ordered_json::array();
