@@ -16,7 +16,9 @@
 namespace tpcal::pipeline {
 namespace {
 
-constexpr double kBaseRankTolerance = 1e-7;  // as kinematics::IdentifyOptions::rank_tolerance
+// Numerical rank: the base model absorbs every direction it can fit, however weakly (identification
+// reports directions below 1e-3 of the strongest as not identifiable, kinematics/identification.h).
+constexpr double kBaseRankTolerance = 1e-7;
 constexpr double kMinLeverage = 1e-9;        // 1 - h below this: the point fits itself (PRESS huge)
 
 // Orthonormal basis of the column space of J (columns scaled to unit norm first).
