@@ -11,7 +11,7 @@ std::string FormatCombination(const std::vector<std::string>& names, const std::
   bool first = true;
   for (std::size_t k = 0; k < names.size() && k < c.size(); ++k) {
     const double v = c[k];
-    if (std::abs(v) < 1e-9) continue;
+    if (std::abs(v) < 1e-6) continue;  // 1e-6 um per urad: below any effect a report could show
     const double mag = std::abs(v);
     if (first) {
       if (v < 0) os << "-";

@@ -8,7 +8,7 @@
 namespace tpcal::kinematics::internal {
 
 // "dy_AR(-90) + dz_AR(-90)", "a - 0.4007 b": coefficients of magnitude 1 are not printed;
-// entries below 1e-9 are left out.
+// entries below 1e-6 (of the largest, which is 1) are left out of the text.
 std::string FormatCombination(const std::vector<std::string>& names, const std::vector<double>& c);
 
 // Scales c so that its largest |entry| is +1; entries below 1e-10 become exactly 0.
