@@ -131,35 +131,60 @@ Result<AxisSense> ParseSense(const Reader& rd, const YAML::Node& n, const std::s
 
 Result<DatumFrameSpec> ParseFrame(const Reader& rd, const YAML::Node& n) {
   const std::string what = "datum_frame";
-  TPCAL_RETURN_IF_ERROR(
-      rd.CheckMap(n, what, {"type", "primary", "center", "x_toward", "secondary", "tertiary", "z_sense", "x_sense"}));
+  TPCAL_RETURN_IF_ERROR(rd.CheckMap(n, what,
+                                    {"type", "primary", "center", "x_toward", "y_toward", "toward_first_point",
+                                     "secondary", "tertiary", "z_sense", "x_sense"}));
   DatumFrameSpec d;
   d.line = Reader::Line(n);
-  if (!n["type"]) return rd.Error(n, what + ": missing key 'type' (turning or 3-2-1)");
+  if (!n["type"]) return rd.Error(n, what + ": missing key 'type' (turning, 3-2-1 or targets)");
   std::string type;
   TPCAL_ASSIGN_OR_RETURN(type, rd.String(n["type"], what + " type"));
   if (type == "turning") {
     d.type = DatumFrameType::kTurning;
   } else if (type == "3-2-1") {
     d.type = DatumFrameType::kThreeTwoOne;
+  } else if (type == "targets") {
+    d.type = DatumFrameType::kTargets;
   } else {
-    return rd.Error(n["type"], what + " type: unknown value '" + type + "', expected turning or 3-2-1");
+    return rd.Error(n["type"], what + " type: unknown value '" + type + "', expected turning, 3-2-1 or targets");
   }
-  const bool turning = d.type == DatumFrameType::kTurning;
-  const std::vector<std::pair<const char*, std::string*>> required =
-      turning ? std::vector<std::pair<const char*, std::string*>>{{"primary", &d.primary},
-                                                                 {"center", &d.center},
-                                                                 {"x_toward", &d.x_toward}}
-              : std::vector<std::pair<const char*, std::string*>>{{"primary", &d.primary},
-                                                                 {"secondary", &d.secondary},
-                                                                 {"tertiary", &d.tertiary}};
+  // Keys each type requires, and keys that belong to the other types only.
+  using Keys = std::vector<std::pair<const char*, std::string*>>;
+  Keys required;
+  std::vector<const char*> foreign;
+  switch (d.type) {
+    case DatumFrameType::kTurning:
+      required = Keys{{"primary", &d.primary}, {"center", &d.center}, {"x_toward", &d.x_toward}};
+      foreign = {"secondary", "tertiary", "x_sense", "y_toward", "toward_first_point"};
+      break;
+    case DatumFrameType::kThreeTwoOne:
+      required = Keys{{"primary", &d.primary}, {"secondary", &d.secondary}, {"tertiary", &d.tertiary}};
+      foreign = {"center", "x_toward", "y_toward", "toward_first_point"};
+      break;
+    case DatumFrameType::kTargets:
+      required = Keys{{"primary", &d.primary}, {"center", &d.center}};
+      foreign = {"secondary", "tertiary", "x_sense"};
+      break;
+  }
   for (const auto& [key, dst] : required) {
     if (!n[key]) return rd.Error(n, what + " (" + type + "): missing key '" + key + "'");
     TPCAL_ASSIGN_OR_RETURN(*dst, rd.String(n[key], what + " " + key));
   }
-  for (const char* key : turning ? std::vector<const char*>{"secondary", "tertiary", "x_sense"}
-                                 : std::vector<const char*>{"center", "x_toward"}) {
+  for (const char* key : foreign) {
     if (n[key]) return rd.Error(n[key], what + ": key '" + key + "' does not apply to a " + type + " frame");
+  }
+  if (d.type == DatumFrameType::kTargets) {
+    // Exactly one direction target (ValidateFrame checks the features it names).
+    if (n["x_toward"].IsDefined() == n["y_toward"].IsDefined())
+      return rd.Error(n, what + " (targets): give exactly one of x_toward and y_toward");
+    if (n["x_toward"]) TPCAL_ASSIGN_OR_RETURN(d.x_toward, rd.String(n["x_toward"], what + " x_toward"));
+    if (n["y_toward"]) TPCAL_ASSIGN_OR_RETURN(d.y_toward, rd.String(n["y_toward"], what + " y_toward"));
+    if (n["toward_first_point"]) {
+      const YAML::Node& b = n["toward_first_point"];
+      if (!b.IsScalar() || (b.Scalar() != "true" && b.Scalar() != "false"))
+        return rd.Error(b, what + " toward_first_point: expected true or false");
+      d.toward_first_point = b.Scalar() == "true";
+    }
   }
   if (!n["z_sense"])
     return rd.Error(n, what + ": missing key 'z_sense' (point_normals, {away_from: FEATURE} or {toward: FEATURE}); "

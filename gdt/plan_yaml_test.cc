@@ -95,6 +95,70 @@ TEST(ParseInspectionPlan, ErrorsCiteTheLine) {
   }
 }
 
+// A datum-target frame (ISO 5459 target areas: the cone frustum's), and its errors.
+const char* const kTargetsPlan =
+    "schema: tpcal.inspection_plan/1\n"                 // 1
+    "name: cone\n"                                      // 2
+    "datum_frame:\n"                                    // 3
+    "  type: targets\n"                                 // 4
+    "  primary: CONE_1\n"                               // 5
+    "  center: CONE_1\n"                                // 6
+    "  x_toward: CONE_1\n"                              // 7
+    "  toward_first_point: true\n"                      // 8
+    "  z_sense: {toward: CONE_3}\n"                     // 9
+    "features:\n"                                       // 10
+    "  CONE_1: {kind: circle, projection: none}\n"      // 11
+    "  CONE_3: {kind: circle, projection: none}\n";     // 12
+
+TEST(ParseInspectionPlan, ReadsATargetsFrame) {
+  auto plan = ParseInspectionPlan(kTargetsPlan, "cone.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  ASSERT_TRUE(plan->datum_frame.has_value());
+  const DatumFrameSpec& f = *plan->datum_frame;
+  EXPECT_EQ(f.type, DatumFrameType::kTargets);
+  EXPECT_EQ(f.primary, "CONE_1");
+  EXPECT_EQ(f.center, "CONE_1");
+  EXPECT_EQ(f.x_toward, "CONE_1");
+  EXPECT_TRUE(f.y_toward.empty());
+  EXPECT_TRUE(f.toward_first_point);
+  EXPECT_EQ(f.z_sense.rule, AxisSense::Rule::kToward);
+  EXPECT_EQ(f.z_sense.feature, "CONE_3");
+  // y_toward instead of x_toward, and toward_first_point defaults to false.
+  auto y = ParseInspectionPlan(Replace(Replace(kTargetsPlan, "  x_toward: CONE_1\n", "  y_toward: CONE_3\n"),
+                                       "  toward_first_point: true\n", ""),
+                               "cone.yaml");
+  ASSERT_TRUE(y.ok()) << y.status().ToString();
+  EXPECT_EQ(y->datum_frame->y_toward, "CONE_3");
+  EXPECT_TRUE(y->datum_frame->x_toward.empty());
+  EXPECT_FALSE(y->datum_frame->toward_first_point);
+}
+
+TEST(ParseInspectionPlan, TargetsFrameErrorsCiteTheLine) {
+  const std::string p = kTargetsPlan;
+  const BadPlan cases[] = {
+      {"both directions", Replace(p, "  x_toward: CONE_1\n", "  x_toward: CONE_1\n  y_toward: CONE_3\n"), 4,
+       "exactly one of x_toward and y_toward"},
+      {"no direction", Replace(p, "  x_toward: CONE_1\n", ""), 4, "exactly one of x_toward and y_toward"},
+      {"not a boolean", Replace(p, "toward_first_point: true", "toward_first_point: yes please"), 8,
+       "expected true or false"},
+      {"3-2-1 key", Replace(p, "  center: CONE_1\n", "  center: CONE_1\n  secondary: CONE_3\n"), 7,
+       "does not apply to a targets frame"},
+      {"missing center", Replace(p, "  center: CONE_1\n", ""), 4, "missing key 'center'"},
+      {"unknown feature", Replace(p, "  x_toward: CONE_1", "  x_toward: CONE_9"), 4, "unknown feature 'CONE_9'"},
+  };
+  for (const BadPlan& c : cases) {
+    auto plan = ParseInspectionPlan(c.text, "bad.yaml");
+    ASSERT_FALSE(plan.ok()) << c.what;
+    EXPECT_EQ(plan.status().file(), "bad.yaml") << c.what;
+    EXPECT_EQ(plan.status().line(), c.line) << c.what << ": " << plan.status().ToString();
+    EXPECT_THAT(plan.status().message(), HasSubstr(c.message)) << c.what;
+  }
+  auto turning = ParseInspectionPlan(Replace(kPlan, "  x_toward: H1\n", "  x_toward: H1\n  y_toward: H1\n"), "bad.yaml");
+  ASSERT_FALSE(turning.ok());
+  EXPECT_EQ(turning.status().line(), 8u) << turning.status().ToString();
+  EXPECT_THAT(turning.status().message(), HasSubstr("does not apply to a turning frame"));
+}
+
 TEST(LoadInspectionPlan, MissingFileIsAnIoError) {
   auto plan = LoadInspectionPlan("/nonexistent/plan.yaml");
   EXPECT_EQ(plan.status().code(), StatusCode::kIoError);

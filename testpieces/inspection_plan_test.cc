@@ -37,6 +37,57 @@ TEST(InspectionPlan, EveryPieceHasAValidPlanOverItsFeatures) {
   }
 }
 
+// The datum-target frames the M2 and cone pieces build in code, written as plan YAML
+// (`type: targets`, gdt/PLAN_FORMAT.md) and read back by the loader: the same frame.
+std::string TargetsPlanYaml(const gdt::InspectionPlan& plan) {
+  const gdt::DatumFrameSpec& f = *plan.datum_frame;
+  auto sense = [](const gdt::AxisSense& s) -> std::string {
+    switch (s.rule) {
+      case gdt::AxisSense::Rule::kPointNormals: return "point_normals";
+      case gdt::AxisSense::Rule::kAwayFrom: return "{away_from: " + s.feature + "}";
+      case gdt::AxisSense::Rule::kToward: return "{toward: " + s.feature + "}";
+      case gdt::AxisSense::Rule::kPointOrder: return "point_order";
+    }
+    return "";
+  };
+  std::string y = "schema: tpcal.inspection_plan/1\nname: targets\ndatum_frame:\n  type: targets\n";
+  y += "  primary: " + f.primary + "\n  center: " + f.center + "\n";
+  y += f.x_toward.empty() ? "  y_toward: " + f.y_toward + "\n" : "  x_toward: " + f.x_toward + "\n";
+  if (f.toward_first_point) y += "  toward_first_point: true\n";
+  y += "  z_sense: " + sense(f.z_sense) + "\nfeatures:\n";
+  for (const auto& feature : plan.features)
+    y += "  " + feature.name + ": {kind: " + gdt::FeatureKindName(feature.kind) + ", projection: " +
+         gdt::ProjectionName(feature.projection) + "}\n";
+  return y;
+}
+
+TEST(InspectionPlan, TargetsFramesReadBackFromPlanYaml) {
+  FaceMillingPieceParams m2;
+  ASSERT_GT(m2.passes, 1);  // the default M2 plan has a datum frame
+  for (const PieceParams& p : std::vector<PieceParams>{m2, ConeFrustumParams{}}) {
+    PieceConfig c;
+    c.params = p;
+    auto piece = MakeTestPiece(c, AcTable());
+    ASSERT_TRUE(piece.ok()) << piece.status().ToString();
+    const auto& mine = piece->inspection.datum_frame;
+    ASSERT_TRUE(mine.has_value());
+    ASSERT_EQ(mine->type, gdt::DatumFrameType::kTargets);
+    const std::string text = TargetsPlanYaml(piece->inspection);
+    auto read = gdt::ParseInspectionPlan(text, piece->name + ".yaml");
+    ASSERT_TRUE(read.ok()) << read.status().ToString() << "\n" << text;
+    ASSERT_TRUE(read->datum_frame.has_value());
+    const gdt::DatumFrameSpec& r = *read->datum_frame;
+    EXPECT_EQ(r.type, gdt::DatumFrameType::kTargets) << piece->name;
+    EXPECT_EQ(r.primary, mine->primary) << piece->name;
+    EXPECT_EQ(r.center, mine->center) << piece->name;
+    EXPECT_EQ(r.x_toward, mine->x_toward) << piece->name;
+    EXPECT_EQ(r.y_toward, mine->y_toward) << piece->name;
+    EXPECT_EQ(r.toward_first_point, mine->toward_first_point) << piece->name;
+    EXPECT_EQ(r.z_sense.rule, mine->z_sense.rule) << piece->name;
+    EXPECT_EQ(r.z_sense.feature, mine->z_sense.feature) << piece->name;
+  }
+}
+
 TEST(InspectionPlan, TurningPlanAgreesWithTheGdtSamplePlan) {
   auto sample = gdt::LoadInspectionPlan(std::string(TPCAL_SOURCE_DIR) + "/samples/plans/turning.yaml");
   ASSERT_TRUE(sample.ok()) << sample.status().ToString();
