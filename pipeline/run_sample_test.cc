@@ -63,6 +63,10 @@ TEST(RunSample, M1SampleIsWhatItsTruthGenerates) {
   CheckOrRegenerate(kSampleDir + "m1/truth.yaml", kSampleDir + "m1/cmm_points.csv");
 }
 
+TEST(RunSample, ConeSampleIsWhatItsTruthGenerates) {
+  CheckOrRegenerate(kSampleDir + "cone/truth.yaml", kSampleDir + "cone/cmm_points.csv");
+}
+
 TEST(RunSample, TurningRawSampleIsWhatItsTruthGenerates) {
   CheckOrRegenerate(kSampleDir + "turning_raw/truth.yaml", kSampleDir + "turning_raw/cmm_scan.csv");
 }

@@ -94,6 +94,34 @@ TEST(RunStage, M1SampleRecoversTheStatedSquareness) {
   EXPECT_EQ(r->diagnosis->verdict.family, "none");
 }
 
+// The cone frustum's default plan separates none of the A/C table's twelve ISO location and
+// squareness errors: each is reported without a value, and the six combinations the data do
+// determine match the stated truth within 4 of their standard uncertainties (truth evaluated with
+// the reported coefficients; errors the truth file leaves out are zero).
+TEST(RunStage, ConeSampleReportsEstimableCombinationsThatMatchTheTruth) {
+  auto c = LoadPipelineConfig(std::string(TPCAL_SOURCE_DIR) + "/samples/pipelines/cone.yaml");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  c->monte_carlo_trials = 0;
+  auto r = RunPipeline(*c);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  const auto& id = r->stage.identification;
+  ASSERT_EQ(id.parameters.size(), 12u);
+  for (const auto& p : id.parameters) EXPECT_FALSE(p.identifiable) << p.name << " = " << p.value;
+  EXPECT_EQ(id.identifiability.not_identifiable.size(), 12u);
+  ASSERT_EQ(id.identifiability.estimable.size(), 6u);
+  for (const auto& comb : id.identifiability.estimable) {
+    double truth = 0.0;
+    for (std::size_t k = 0; k < comb.names.size(); ++k) {
+      const auto it = r->truth.find(comb.names[k]);
+      truth += comb.coefficients[k] * (it == r->truth.end() ? 0.0 : it->second);
+    }
+    ASSERT_TRUE(std::isfinite(comb.u) && comb.u > 0.0) << comb.text;
+    EXPECT_LE(std::abs(comb.value - truth), kSigmas * comb.u)
+        << comb.text << " = " << comb.value << " +- " << comb.u << ", truth " << truth;
+  }
+  EXPECT_LT(id.rms_after_um, 0.7);  // the CMM noise (0.5 um): the combinations explain the piece
+}
+
 // The sample's truth holds only errors of the identified set: the diagnosis must find nothing
 // beyond noise (a false alarm here would be a wrong verdict on a clean piece).
 TEST(RunStage, CleanSampleDiagnosisFindsNothingBeyondNoise) {
