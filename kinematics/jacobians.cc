@@ -13,14 +13,37 @@ namespace {
 constexpr int kChunk = 8;
 using Jet = ceres::Jet<double, kChunk>;
 
-// Seeds derivative slots for active entries [begin, begin + kChunk).
-std::vector<Jet> Seed(const ErrorState& errors, const ActiveSet& active, int begin) {
-  std::vector<Jet> x(active.size());
+// Seeds derivative slots for active entries [begin, begin + N).
+template <int N>
+std::vector<ceres::Jet<double, N>> Seed(const ErrorState& errors, const ActiveSet& active, int begin) {
+  std::vector<ceres::Jet<double, N>> x(active.size());
   for (int j = 0; j < active.size(); ++j) {
-    x[j] = Jet(errors.coefficient(active.coefficients[j]));
-    if (j >= begin && j < begin + kChunk) x[j].v[j - begin] = 1.0;
+    x[j] = ceres::Jet<double, N>(errors.coefficient(active.coefficients[j]));
+    if (j >= begin && j < begin + N) x[j].v[j - begin] = 1.0;
   }
   return x;
+}
+
+// Columns [begin, begin + N) of J_point_params (clipped to active.size()) by one pass with
+// Jet<double, N>. Every derivative part is computed by the same operations whatever N, so the
+// columns do not depend on how the active set is chunked.
+template <int N>
+Eigen::Vector3d ToolPointColumns(const MachineModel& model, const ErrorState& errors,
+                                 const ActiveSet& active, const AxisState& axes,
+                                 const Eigen::Vector3d& contact_in_tool_mm, int begin,
+                                 ChainScratch* scratch,
+                                 Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_params) {
+  const std::vector<ceres::Jet<double, N>> x = Seed<N>(errors, active, begin);
+  const Eigen::Matrix<ceres::Jet<double, N>, 3, 1> p = ToolPointInPartT<ceres::Jet<double, N>>(
+      model, errors, active, x.data(), axes, contact_in_tool_mm, scratch);
+  Eigen::Vector3d point;
+  for (int r = 0; r < 3; ++r) {
+    point(r) = p(r).a;
+    for (int j = begin; j < std::min(begin + N, active.size()); ++j) {
+      (*J_point_params)(r, j) = p(r).v[j - begin];
+    }
+  }
+  return point;
 }
 
 }  // namespace
@@ -37,15 +60,18 @@ Eigen::Vector3d ToolPointJacobian(const MachineModel& model, const ErrorState& e
     point = ToolPointInPartT<double>(model, errors, active, none, axes, contact_in_tool_mm, &scratch);
     return point;
   }
-  for (int begin = 0; begin < active.size(); begin += kChunk) {
-    const std::vector<Jet> x = Seed(errors, active, begin);
-    const Eigen::Matrix<Jet, 3, 1> p =
-        ToolPointInPartT<Jet>(model, errors, active, x.data(), axes, contact_in_tool_mm, &scratch);
-    for (int r = 0; r < 3; ++r) {
-      point(r) = p(r).a;
-      for (int j = begin; j < std::min(begin + kChunk, active.size()); ++j) {
-        (*J_point_params)(r, j) = p(r).v[j - begin];
-      }
+  // One pass per 16 columns, each with the narrowest Jet that holds its columns (the cost of a
+  // pass grows with the Jet width; the value part is computed once per pass).
+  for (int begin = 0; begin < active.size(); begin += 16) {
+    const int width = active.size() - begin;
+    if (width <= 4) {
+      point = ToolPointColumns<4>(model, errors, active, axes, contact_in_tool_mm, begin, &scratch, J_point_params);
+    } else if (width <= 8) {
+      point = ToolPointColumns<8>(model, errors, active, axes, contact_in_tool_mm, begin, &scratch, J_point_params);
+    } else if (width <= 12) {
+      point = ToolPointColumns<12>(model, errors, active, axes, contact_in_tool_mm, begin, &scratch, J_point_params);
+    } else {
+      point = ToolPointColumns<16>(model, errors, active, axes, contact_in_tool_mm, begin, &scratch, J_point_params);
     }
   }
   return point;
@@ -57,7 +83,7 @@ void PartFromToolJacobian(const MachineModel& model, const ErrorState& errors,
   ChainScratch scratch;
   J_pose_params->setZero(6, active.size());
   for (int begin = 0; begin < active.size(); begin += kChunk) {
-    const std::vector<Jet> x = Seed(errors, active, begin);
+    const std::vector<Jet> x = Seed<kChunk>(errors, active, begin);
     const PoseT<Jet> pose = PartFromToolT<Jet>(model, errors, active, x.data(), axes, &scratch);
     Eigen::Matrix3d R;
     for (int r = 0; r < 3; ++r) {
