@@ -56,18 +56,35 @@ Eigen::Vector3d ToolPointJacobian(const MachineModel& model, const ErrorState& e
                                   Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_params) {
   ChainScratch scratch;
   J_point_params->setZero(3, active.size());
+  // Only the coefficients whose basis weight at `axes` is non-zero act on the chain (a
+  // conditional parameter whose condition fails, a table node out of reach): the others'
+  // columns are exactly zero and get no derivative slot.
+  ActiveSet live;
+  std::vector<int> column_of_live;
+  int weights_term = -1;
+  for (int j = 0; j < active.size(); ++j) {
+    const CoefficientInfo& info = errors.coefficient_info(active.coefficients[j]);
+    if (info.term != weights_term) {
+      EvaluateTermBasis(errors.terms()[info.term], axes, &scratch.weights);
+      weights_term = info.term;
+    }
+    if (scratch.weights[info.index] == 0.0) continue;
+    live.coefficients.push_back(active.coefficients[j]);
+    column_of_live.push_back(j);
+  }
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  if (active.size() == 0) {
+  if (live.size() == 0) {
     const double* none = nullptr;
-    point = ToolPointInPartT<double>(model, errors, active, none, axes, contact_in_tool_mm, &scratch);
+    point = ToolPointInPartT<double>(model, errors, live, none, axes, contact_in_tool_mm, &scratch);
     return point;
   }
+  Eigen::Matrix<double, 3, Eigen::Dynamic> J_live(3, live.size());
   // One pass per 24 columns, each with the narrowest Jet that holds its columns (the cost of a
   // pass grows with the Jet width; the value part is computed once per pass).
-  for (int begin = 0; begin < active.size(); begin += 24) {
-    const int width = active.size() - begin;
+  for (int begin = 0; begin < live.size(); begin += 24) {
+    const int width = live.size() - begin;
     auto columns = [&]<int N>() {
-      point = ToolPointColumns<N>(model, errors, active, axes, contact_in_tool_mm, begin, &scratch, J_point_params);
+      point = ToolPointColumns<N>(model, errors, live, axes, contact_in_tool_mm, begin, &scratch, &J_live);
     };
     if (width <= 4) {
       columns.template operator()<4>();
@@ -83,6 +100,7 @@ Eigen::Vector3d ToolPointJacobian(const MachineModel& model, const ErrorState& e
       columns.template operator()<24>();
     }
   }
+  for (int k = 0; k < live.size(); ++k) J_point_params->col(column_of_live[k]) = J_live.col(k);
   return point;
 }
 
