@@ -171,42 +171,44 @@ PoseT<T> LinkTransform(const AxisLink& link, const T* e, const T& q, LinkAxisT<T
   if (IsRotary(link.axis)) {
     // G = T(l_t) R(l_r) Rot_a(sq) R(l_r)^-1 T(-l_t) = rotation by sq about the line (l_t, k):
     // Rodrigues, R_g = c I + s [k]x + (1 - c) k k^T.
-    Eigen::Matrix<T, 3, 3> rg;
+    const Eigen::Matrix<T, 3, 1> l_t(e[6], e[7], e[8]);
+    // L = T(p) T(e_t) R(e_r) G T(-p). `rg` is a double matrix when it carries no derivative, and
+    // the pivot is a constant: a Jet times a double costs half a Jet times a Jet, same bits.
+    const auto finish = [&](const auto& rg) {
+      const Eigen::Matrix<T, 3, 1> t_g = l_t - rg * l_t;
+      if (has_r) {
+        const Eigen::Matrix<T, 3, 3> re = RotXYZ(e[3], e[4], e[5]);
+        out.R = re * rg;
+        out.t = p + e_t + re * t_g - out.R * link.pivot_mm;
+        if (axis) {
+          axis->direction = re * k;
+          axis->point = p + e_t + re * l_t;
+        }
+      } else {
+        out.R = rg.template cast<T>();
+        out.t = p + e_t + t_g - rg * link.pivot_mm;
+        if (axis) {
+          axis->direction = k;
+          axis->point = p + e_t + l_t;
+        }
+      }
+    };
     if constexpr (!std::is_arithmetic_v<T>) {
       if (!tilted && IsConstant(sq)) {
         // Neither the axis nor the angle carries a derivative: the same formula in double.
-        rg = Rodrigues(Eigen::Vector3d(Eigen::Vector3d::Unit(dir)), ValueOf(sq)).template cast<T>();
+        finish(Rodrigues(Eigen::Vector3d(Eigen::Vector3d::Unit(dir)), ValueOf(sq)));
       } else {
-        rg = Rodrigues(k, sq);
+        finish(Rodrigues(k, sq));
       }
     } else {
-      rg = Rodrigues(k, sq);
-    }
-    const Eigen::Matrix<T, 3, 1> l_t(e[6], e[7], e[8]);
-    const Eigen::Matrix<T, 3, 1> t_g = l_t - rg * l_t;
-    // L = T(p) T(e_t) R(e_r) G T(-p)
-    if (has_r) {
-      const Eigen::Matrix<T, 3, 3> re = RotXYZ(e[3], e[4], e[5]);
-      out.R = re * rg;
-      out.t = p + e_t + re * t_g - out.R * p;
-      if (axis) {
-        axis->direction = re * k;
-        axis->point = p + e_t + re * l_t;
-      }
-    } else {
-      out.R = rg;
-      out.t = p + e_t + t_g - rg * p;
-      if (axis) {
-        axis->direction = k;
-        axis->point = p + e_t + l_t;
-      }
+      finish(Rodrigues(k, sq));
     }
   } else {
     // L = T(p) T(sq R(l_r) a) T(e_t) R(e_r) T(-p)
     const Eigen::Matrix<T, 3, 1> v = sq * k;
     if (has_r) {
       out.R = RotXYZ(e[3], e[4], e[5]);
-      out.t = p + v + e_t - out.R * p;
+      out.t = p + v + e_t - out.R * link.pivot_mm;
     } else {
       out.t = v + e_t;
     }
@@ -330,8 +332,7 @@ Eigen::Matrix<T, 3, 1> ToolPointInPartT(const MachineModel& model, const ErrorSt
   ChainInputsT<T>(model, errors, active, x, axes, scratch, &e, &q);
   PoseT<T> w, tool;
   BranchPosesT<T>(model, e.data(), q.data(), &w, &tool);
-  const Eigen::Matrix<T, 3, 1> c = contact_in_tool_mm.cast<T>();
-  return w.R.transpose() * (tool.R * c + tool.t - w.t);
+  return w.R.transpose() * (tool.R * contact_in_tool_mm + tool.t - w.t);
 }
 
 }  // namespace tpcal::kinematics
