@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <functional>
@@ -186,14 +187,27 @@ class PointResiduals final : public ceres::CostFunction {
     const Eigen::Matrix3d R = xi ? RotationFromUrad(xi) : Eigen::Matrix3d::Identity();
     const Eigen::Vector3d t_mm = xi ? Eigen::Vector3d(Eigen::Vector3d(xi[3], xi[4], xi[5]) * 1e-3) : Eigen::Vector3d::Zero();
     const Eigen::Index r = V_r_.cols();
-    return ParallelChunks(obs_.size(), [&](std::size_t begin, std::size_t end) {
+    // The surface points depend on z only: Ceres evaluates the residuals at a candidate and, once
+    // it accepts it, the Jacobian at the same z; the second call reuses the first's solutions.
+    const std::size_t z_bytes = static_cast<std::size_t>(r) * sizeof(double);
+    const bool reuse = solved_z_.size() == static_cast<std::size_t>(r) && solved_.size() == obs_.size() &&
+                       std::memcmp(solved_z_.data(), parameters[0], z_bytes) == 0;
+    if (!reuse) {
+      solved_z_.clear();
+      solved_.resize(obs_.size());
+    }
+    const bool ok = ParallelChunks(obs_.size(), [&](std::size_t begin, std::size_t end) {
       Workspace ws;
       for (std::size_t i = begin; i < end; ++i) {
         const Observation& o = obs_[i];
         const Eigen::Vector3d& n0 = o.cut.nominal_normal;
         const Eigen::Vector3d m = R * o.measured_mm + t_mm;
-        auto sp = SimulateSurfacePoint(model_, work_, o.cut, &ws);
-        if (!sp.ok()) return false;
+        if (!reuse) {
+          auto solved = SimulateSurfacePoint(model_, work_, o.cut, &ws);
+          if (!solved.ok()) return false;
+          solved_[i] = *solved;
+        }
+        const SurfacePoint* sp = &solved_[i];
         residuals[i] = MmToUm(n0.dot(m - o.cut.nominal_point_mm) - sp->deviation_mm);
         if (jacobians && jacobians[0]) {
           auto row = SurfaceDeviationJacobian(model_, work_, active_, o.cut, *sp);
@@ -213,6 +227,8 @@ class PointResiduals final : public ceres::CostFunction {
       }
       return true;
     });
+    if (ok && !reuse) solved_z_.assign(parameters[0], parameters[0] + r);
+    return ok;
   }
 
  private:
@@ -227,6 +243,8 @@ class PointResiduals final : public ceres::CostFunction {
   JacobianCapture* capture_;
   mutable ErrorState work_;
   mutable int jacobian_passes_ = 0;
+  mutable std::vector<double> solved_z_;      // z of solved_ (empty: none)
+  mutable std::vector<SurfacePoint> solved_;  // per observation
 };
 
 Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu) {
