@@ -77,15 +77,62 @@ Eigen::Matrix<T, 3, 3> RotXYZ(const T& rx, const T& ry, const T& rz) {
   return m;
 }
 
-// True when all three are exactly zero, for double only: a Jet with a zero value may still carry
-// derivatives, so it is never skipped.
+// Rotation by angle `a` about the unit axis k (Rodrigues): c I + s [k]x + (1 - c) k k^T.
+template <typename T>
+Eigen::Matrix<T, 3, 3> Rodrigues(const Eigen::Matrix<T, 3, 1>& k, const T& a) {
+  T s, c;
+  SinCos(a, &s, &c);
+  const T one_c = T(1.0) - c;
+  Eigen::Matrix<T, 3, 3> rg;
+  rg(0, 0) = c + one_c * k(0) * k(0);
+  rg(1, 1) = c + one_c * k(1) * k(1);
+  rg(2, 2) = c + one_c * k(2) * k(2);
+  rg(0, 1) = one_c * k(0) * k(1) - s * k(2);
+  rg(1, 0) = one_c * k(0) * k(1) + s * k(2);
+  rg(0, 2) = one_c * k(0) * k(2) + s * k(1);
+  rg(2, 0) = one_c * k(0) * k(2) - s * k(1);
+  rg(1, 2) = one_c * k(1) * k(2) - s * k(0);
+  rg(2, 1) = one_c * k(1) * k(2) + s * k(0);
+  return rg;
+}
+
+// True when `a` is exactly zero: a double equal to 0, or a Jet (members `a` and `v`) whose value
+// and every derivative part are 0. Then it contributes nothing to a value or a derivative, and a
+// rotation by it may be skipped exactly.
+template <typename T>
+[[gnu::always_inline]] inline bool IsExactZero(const T& a) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return a == 0.0;
+  } else {
+    return a.a == 0.0 && (a.v.array() == 0.0).all();
+  }
+}
+
+// True when `a` carries no derivative (always for double).
+template <typename T>
+[[gnu::always_inline]] inline bool IsConstant(const T& a) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return true;
+  } else {
+    return (a.v.array() == 0.0).all();
+  }
+}
+
+// The value of `a` (a itself for double).
+template <typename T>
+[[gnu::always_inline]] inline double ValueOf(const T& a) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return a;
+  } else {
+    return a.a;
+  }
+}
+
+// True when all three are exactly zero (IsExactZero): the rotation RotXYZ(a, b, c) is then the
+// identity with no derivative, and skipping it is exact for double and Jet alike.
 template <typename T>
 bool AllZero(const T& a, const T& b, const T& c) {
-  if constexpr (std::is_same_v<T, double>) {
-    return a == 0.0 && b == 0.0 && c == 0.0;
-  } else {
-    return false;
-  }
+  return IsExactZero(a) && IsExactZero(b) && IsExactZero(c);
 }
 
 }  // namespace chain_internal
@@ -103,8 +150,10 @@ struct LinkAxisT {
 template <typename T>
 PoseT<T> LinkTransform(const AxisLink& link, const T* e, const T& q, LinkAxisT<T>* axis = nullptr) {
   using chain_internal::AllZero;
+  using chain_internal::IsConstant;
+  using chain_internal::Rodrigues;
   using chain_internal::RotXYZ;
-  using chain_internal::SinCos;
+  using chain_internal::ValueOf;
   const int dir = AxisIndex(link.axis) % 3;
   const Eigen::Matrix<T, 3, 1> p = link.pivot_mm.cast<T>();
   const T sq = T(link.motion_sign()) * q;
@@ -112,7 +161,8 @@ PoseT<T> LinkTransform(const AxisLink& link, const T* e, const T& q, LinkAxisT<T
   const bool has_r = !AllZero(e[3], e[4], e[5]);
   // k = R(l_r) a: the (tilted) axis / travel direction before the pose error.
   Eigen::Matrix<T, 3, 1> k = Eigen::Matrix<T, 3, 1>::Zero();
-  if (AllZero(e[9], e[10], e[11])) {
+  const bool tilted = !AllZero(e[9], e[10], e[11]);
+  if (!tilted) {
     k(dir) = T(1.0);
   } else {
     k = RotXYZ(e[9], e[10], e[11]).col(dir);
@@ -121,44 +171,44 @@ PoseT<T> LinkTransform(const AxisLink& link, const T* e, const T& q, LinkAxisT<T
   if (IsRotary(link.axis)) {
     // G = T(l_t) R(l_r) Rot_a(sq) R(l_r)^-1 T(-l_t) = rotation by sq about the line (l_t, k):
     // Rodrigues, R_g = c I + s [k]x + (1 - c) k k^T.
-    T s, c;
-    SinCos(sq, &s, &c);
-    const T one_c = T(1.0) - c;
-    Eigen::Matrix<T, 3, 3> rg;
-    rg(0, 0) = c + one_c * k(0) * k(0);
-    rg(1, 1) = c + one_c * k(1) * k(1);
-    rg(2, 2) = c + one_c * k(2) * k(2);
-    rg(0, 1) = one_c * k(0) * k(1) - s * k(2);
-    rg(1, 0) = one_c * k(0) * k(1) + s * k(2);
-    rg(0, 2) = one_c * k(0) * k(2) + s * k(1);
-    rg(2, 0) = one_c * k(0) * k(2) - s * k(1);
-    rg(1, 2) = one_c * k(1) * k(2) - s * k(0);
-    rg(2, 1) = one_c * k(1) * k(2) + s * k(0);
     const Eigen::Matrix<T, 3, 1> l_t(e[6], e[7], e[8]);
-    const Eigen::Matrix<T, 3, 1> t_g = l_t - rg * l_t;
-    // L = T(p) T(e_t) R(e_r) G T(-p)
-    if (has_r) {
-      const Eigen::Matrix<T, 3, 3> re = RotXYZ(e[3], e[4], e[5]);
-      out.R = re * rg;
-      out.t = p + e_t + re * t_g - out.R * p;
-      if (axis) {
-        axis->direction = re * k;
-        axis->point = p + e_t + re * l_t;
+    // L = T(p) T(e_t) R(e_r) G T(-p). `rg` is a double matrix when it carries no derivative, and
+    // the pivot is a constant: a Jet times a double costs half a Jet times a Jet, same bits.
+    const auto finish = [&](const auto& rg) {
+      const Eigen::Matrix<T, 3, 1> t_g = l_t - rg * l_t;
+      if (has_r) {
+        const Eigen::Matrix<T, 3, 3> re = RotXYZ(e[3], e[4], e[5]);
+        out.R = re * rg;
+        out.t = p + e_t + re * t_g - out.R * link.pivot_mm;
+        if (axis) {
+          axis->direction = re * k;
+          axis->point = p + e_t + re * l_t;
+        }
+      } else {
+        out.R = rg.template cast<T>();
+        out.t = p + e_t + t_g - rg * link.pivot_mm;
+        if (axis) {
+          axis->direction = k;
+          axis->point = p + e_t + l_t;
+        }
+      }
+    };
+    if constexpr (!std::is_arithmetic_v<T>) {
+      if (!tilted && IsConstant(sq)) {
+        // Neither the axis nor the angle carries a derivative: the same formula in double.
+        finish(Rodrigues(Eigen::Vector3d(Eigen::Vector3d::Unit(dir)), ValueOf(sq)));
+      } else {
+        finish(Rodrigues(k, sq));
       }
     } else {
-      out.R = rg;
-      out.t = p + e_t + t_g - rg * p;
-      if (axis) {
-        axis->direction = k;
-        axis->point = p + e_t + l_t;
-      }
+      finish(Rodrigues(k, sq));
     }
   } else {
     // L = T(p) T(sq R(l_r) a) T(e_t) R(e_r) T(-p)
     const Eigen::Matrix<T, 3, 1> v = sq * k;
     if (has_r) {
       out.R = RotXYZ(e[3], e[4], e[5]);
-      out.t = p + v + e_t - out.R * p;
+      out.t = p + v + e_t - out.R * link.pivot_mm;
     } else {
       out.t = v + e_t;
     }
@@ -186,7 +236,8 @@ void BranchPosesT(const MachineModel& model, const LinkErrorsT<T>* e, const T* q
     const T* ei = e[i].data();
     PoseT<T>& acc = i < model.num_workpiece_links ? w : tool;
     if (!axes_out && !IsRotary(link.axis) && AllZero(ei[3], ei[4], ei[5])) {
-      // A linear link without pose rotation is a pure translation (exact shortcut, double only).
+      // A linear link without pose rotation is a pure translation (exact shortcut; for a Jet when
+      // the rotation components have zero value and no derivative).
       const int dir = AxisIndex(link.axis);
       Eigen::Matrix<T, 3, 1> v(ei[0], ei[1], ei[2]);
       const T sq = T(link.motion_sign()) * q[dir];
@@ -225,16 +276,16 @@ struct ChainScratch {
   std::vector<double> weights;
 };
 
-// part_from_tool with the active coefficients at x (see the file comment). `active` must index
-// coefficients of `errors`.
+// The link errors and axis positions of the chain with the active coefficients at x (see the
+// file comment). `active` must index coefficients of `errors`. A component that no active
+// coefficient moves at `axes` carries no derivative.
 template <typename T>
-PoseT<T> PartFromToolT(const MachineModel& model, const ErrorState& errors,
-                       const ActiveSet& active, const T* x, const AxisState& axes,
-                       ChainScratch* scratch) {
+void ChainInputsT(const MachineModel& model, const ErrorState& errors, const ActiveSet& active,
+                  const T* x, const AxisState& axes, ChainScratch* scratch,
+                  std::array<LinkErrorsT<T>, kMaxLinks>* e, std::array<T, kNumAxes>* q) {
   EvaluateLinkErrors(errors, axes, &scratch->link_errors);
-  std::array<LinkErrorsT<T>, kMaxLinks> e;
   for (int l = 0; l < model.num_links(); ++l) {
-    for (int c = 0; c < kNumComponents; ++c) e[l][c] = T(scratch->link_errors[l][c]);
+    for (int c = 0; c < kNumComponents; ++c) (*e)[l][c] = T(scratch->link_errors[l][c]);
   }
   int weights_term = -1;
   for (int j = 0; j < active.size(); ++j) {
@@ -250,23 +301,38 @@ PoseT<T> PartFromToolT(const MachineModel& model, const ErrorState& errors,
     const T delta = (x[j] - T(errors.coefficient(i))) * T(w);
     for (const SlotEffect& s : term.effects) {
       const int l = errors.LinkIndex(s.axis);
-      e[l][ComponentIndex(s.component)] += T(s.gain) * delta;
+      (*e)[l][ComponentIndex(s.component)] += T(s.gain) * delta;
     }
   }
-  const std::array<T, kNumAxes> q = {T(axes.x_mm),  T(axes.y_mm),  T(axes.z_mm),
-                                     T(axes.a_rad), T(axes.b_rad), T(axes.c_rad)};
+  *q = {T(axes.x_mm), T(axes.y_mm), T(axes.z_mm), T(axes.a_rad), T(axes.b_rad), T(axes.c_rad)};
+}
+
+// part_from_tool with the active coefficients at x (see the file comment). `active` must index
+// coefficients of `errors`.
+template <typename T>
+PoseT<T> PartFromToolT(const MachineModel& model, const ErrorState& errors,
+                       const ActiveSet& active, const T* x, const AxisState& axes,
+                       ChainScratch* scratch) {
+  std::array<LinkErrorsT<T>, kMaxLinks> e;
+  std::array<T, kNumAxes> q;
+  ChainInputsT<T>(model, errors, active, x, axes, scratch, &e, &q);
   return PartFromToolT<T>(model, e.data(), q.data());
 }
 
-// The tool point `contact_in_tool_mm` in the part frame, active coefficients at x.
+// The tool point `contact_in_tool_mm` in the part frame, active coefficients at x:
+// R_w^T (R_t c + t_t - t_w), as ToolPointInPart (without forming part_from_tool).
 template <typename T>
 Eigen::Matrix<T, 3, 1> ToolPointInPartT(const MachineModel& model, const ErrorState& errors,
                                         const ActiveSet& active, const T* x,
                                         const AxisState& axes,
                                         const Eigen::Vector3d& contact_in_tool_mm,
                                         ChainScratch* scratch) {
-  return PartFromToolT<T>(model, errors, active, x, axes, scratch) *
-         Eigen::Matrix<T, 3, 1>(contact_in_tool_mm.cast<T>());
+  std::array<LinkErrorsT<T>, kMaxLinks> e;
+  std::array<T, kNumAxes> q;
+  ChainInputsT<T>(model, errors, active, x, axes, scratch, &e, &q);
+  PoseT<T> w, tool;
+  BranchPosesT<T>(model, e.data(), q.data(), &w, &tool);
+  return w.R.transpose() * (tool.R * contact_in_tool_mm + tool.t - w.t);
 }
 
 }  // namespace tpcal::kinematics

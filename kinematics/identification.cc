@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <functional>
@@ -95,19 +96,34 @@ Svd TallSvd(const Eigen::MatrixXd& A) {
   return {svd.singularValues(), svd.matrixV()};
 }
 
+// The last evaluation with Jacobians: its parameters, residuals and Jacobian blocks (Ceres
+// layout, row-major), so that the linearisation at the solution can reuse it when Ceres stopped
+// at that very point.
+struct JacobianCapture {
+  std::vector<double> z, xi;
+  std::vector<double> residuals_um, J_z, J_xi;
+  bool valid = false;
+};
+
 // All residuals of the problem as one Ceres block: parameters z (reduced coefficients, display
-// units along the identifiable directions) and xi (w urad, t um).
+// units along the identifiable directions) and xi (w urad, t um). At z = 0, xi = 0 (the base
+// errors, no re-alignment: exactly the point of `lin0`) the values and Jacobians are taken from
+// lin0 instead of another pass over the points.
 class PointResiduals final : public ceres::CostFunction {
  public:
   PointResiduals(const MachineModel& model, const ErrorState& base, const ActiveSet& active,
                  std::span<const Observation> obs, const Eigen::MatrixXd& V_r,
-                 const std::vector<double>& scales, bool with_alignment)
+                 const std::vector<double>& scales, bool with_alignment, const LinearDesign* lin0,
+                 JacobianCapture* capture)
       : model_(model), base_(base), active_(active), obs_(obs), V_r_(V_r), scales_(scales),
-        with_alignment_(with_alignment), work_(base) {
+        with_alignment_(with_alignment), lin0_(lin0), capture_(capture), work_(base) {
     set_num_residuals(static_cast<int>(obs.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(V_r.cols()));
     if (with_alignment) mutable_parameter_block_sizes()->push_back(kNuisance);
   }
+
+  // Passes over the points that evaluated the Jacobian.
+  int jacobian_passes() const { return jacobian_passes_; }
 
   // Coefficient values (internal units) for reduced coordinates z.
   void SetCoefficients(const double* z, ErrorState* e) const {
@@ -120,19 +136,78 @@ class PointResiduals final : public ceres::CostFunction {
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const bool ok = IsBase(parameters) && lin0_ ? FromLin0(residuals, jacobians)
+                                                : EvaluatePoints(parameters, residuals, jacobians);
+    if (ok && jacobians && capture_) Capture(parameters, residuals, jacobians);
+    return ok;
+  }
+
+ private:
+  bool IsBase(double const* const* parameters) const {
+    for (Eigen::Index j = 0; j < V_r_.cols(); ++j)
+      if (parameters[0][j] != 0.0) return false;
+    if (with_alignment_)
+      for (int k = 0; k < kNuisance; ++k)
+        if (parameters[1][k] != 0.0) return false;
+    return true;
+  }
+
+  // The same quantities as EvaluatePoints at z = 0, xi = 0 (to rounding), from lin0.
+  bool FromLin0(double* residuals, double** jacobians) const {
+    const Eigen::Index n = static_cast<Eigen::Index>(obs_.size()), r = V_r_.cols();
+    for (Eigen::Index i = 0; i < n; ++i) residuals[i] = lin0_->measured_dev_um(i) - lin0_->predicted_dev_um(i);
+    if (jacobians && jacobians[0]) {
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians[0], n, r);
+      J.noalias() = lin0_->J_dev_params * (-V_r_);
+    }
+    if (with_alignment_ && jacobians && jacobians[1]) {
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, kNuisance, Eigen::RowMajor>> J(jacobians[1], n, kNuisance);
+      J = lin0_->J_dev_alignment;
+    }
+    return true;
+  }
+
+  void Capture(double const* const* parameters, const double* residuals, double** jacobians) const {
+    const std::size_t n = obs_.size(), r = static_cast<std::size_t>(V_r_.cols());
+    capture_->z.assign(parameters[0], parameters[0] + r);
+    capture_->xi.clear();
+    if (with_alignment_) capture_->xi.assign(parameters[1], parameters[1] + kNuisance);
+    capture_->residuals_um.assign(residuals, residuals + n);
+    capture_->J_z.clear();
+    capture_->J_xi.clear();
+    if (jacobians[0]) capture_->J_z.assign(jacobians[0], jacobians[0] + n * r);
+    if (with_alignment_ && jacobians[1]) capture_->J_xi.assign(jacobians[1], jacobians[1] + n * kNuisance);
+    capture_->valid = jacobians[0] && (!with_alignment_ || jacobians[1]);
+  }
+
+  bool EvaluatePoints(double const* const* parameters, double* residuals, double** jacobians) const {
+    if (jacobians && jacobians[0]) ++jacobian_passes_;
     SetCoefficients(parameters[0], &work_);
     const double* xi = with_alignment_ ? parameters[1] : nullptr;
     const Eigen::Matrix3d R = xi ? RotationFromUrad(xi) : Eigen::Matrix3d::Identity();
     const Eigen::Vector3d t_mm = xi ? Eigen::Vector3d(Eigen::Vector3d(xi[3], xi[4], xi[5]) * 1e-3) : Eigen::Vector3d::Zero();
     const Eigen::Index r = V_r_.cols();
-    return ParallelChunks(obs_.size(), [&](std::size_t begin, std::size_t end) {
+    // The surface points depend on z only: Ceres evaluates the residuals at a candidate and, once
+    // it accepts it, the Jacobian at the same z; the second call reuses the first's solutions.
+    const std::size_t z_bytes = static_cast<std::size_t>(r) * sizeof(double);
+    const bool reuse = solved_z_.size() == static_cast<std::size_t>(r) && solved_.size() == obs_.size() &&
+                       std::memcmp(solved_z_.data(), parameters[0], z_bytes) == 0;
+    if (!reuse) {
+      solved_z_.clear();
+      solved_.resize(obs_.size());
+    }
+    const bool ok = ParallelChunks(obs_.size(), [&](std::size_t begin, std::size_t end) {
       Workspace ws;
       for (std::size_t i = begin; i < end; ++i) {
         const Observation& o = obs_[i];
         const Eigen::Vector3d& n0 = o.cut.nominal_normal;
         const Eigen::Vector3d m = R * o.measured_mm + t_mm;
-        auto sp = SimulateSurfacePoint(model_, work_, o.cut, &ws);
-        if (!sp.ok()) return false;
+        if (!reuse) {
+          auto solved = SimulateSurfacePoint(model_, work_, o.cut, &ws);
+          if (!solved.ok()) return false;
+          solved_[i] = *solved;
+        }
+        const SurfacePoint* sp = &solved_[i];
         residuals[i] = MmToUm(n0.dot(m - o.cut.nominal_point_mm) - sp->deviation_mm);
         if (jacobians && jacobians[0]) {
           auto row = SurfaceDeviationJacobian(model_, work_, active_, o.cut, *sp);
@@ -152,6 +227,8 @@ class PointResiduals final : public ceres::CostFunction {
       }
       return true;
     });
+    if (ok && !reuse) solved_z_.assign(parameters[0], parameters[0] + r);
+    return ok;
   }
 
  private:
@@ -162,7 +239,12 @@ class PointResiduals final : public ceres::CostFunction {
   const Eigen::MatrixXd& V_r_;
   const std::vector<double>& scales_;
   bool with_alignment_;
+  const LinearDesign* lin0_;
+  JacobianCapture* capture_;
   mutable ErrorState work_;
+  mutable int jacobian_passes_ = 0;
+  mutable std::vector<double> solved_z_;      // z of solved_ (empty: none)
+  mutable std::vector<SurfacePoint> solved_;  // per observation
 };
 
 Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu) {
@@ -303,11 +385,14 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
   // 2. Nonlinear least squares (Ceres) in the identifiable directions and the nuisance.
   std::vector<double> z(static_cast<std::size_t>(rank), 0.0);
   std::vector<double> xi(kNuisance, 0.0);
+  JacobianCapture capture;
+  out.jacobian_passes = 1;  // lin0
   {
     ceres::Problem::Options popt;
     popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem problem(popt);
-    auto* cost = new PointResiduals(model, base, active, observations, V_r, scales, options.fit_alignment);
+    auto* cost = new PointResiduals(model, base, active, observations, V_r, scales, options.fit_alignment,
+                                    &*lin0, &capture);
     if (options.fit_alignment) {
       problem.AddResidualBlock(cost, nullptr, z.data(), xi.data());
     } else {
@@ -324,6 +409,10 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     sopt.parameter_tolerance = 1e-9;
     sopt.gradient_tolerance = 1e-16;
     sopt.num_threads = 1;
+    // Start with negligible Levenberg-Marquardt damping (Ceres' default radius 1e4 damps the
+    // weakest identifiable direction by ~1e-3 per step, which costs one or two more iterations,
+    // each a pass of Jacobians over all points). A step that fails shrinks the radius as usual.
+    sopt.initial_trust_region_radius = 1e10;
     sopt.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(sopt, &problem, &summary);
@@ -332,25 +421,42 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     out.iterations = static_cast<int>(summary.iterations.size());
     out.termination = ceres::TerminationTypeToString(summary.termination_type) + std::string(": ") + summary.message;
     cost->SetCoefficients(z.data(), &out.fitted);
+    out.jacobian_passes += cost->jacobian_passes();
   }
+  lin0 = Status(StatusCode::kInternal, "released");  // its memory, before the design at the solution
   const Eigen::Map<const Eigen::VectorXd> zz(z.data(), rank);
   const Eigen::VectorXd theta = V_r * zz;  // display units
   if (options.fit_alignment) {
     out.alignment = MakeRigid(RotationFromUrad(xi.data()), Eigen::Vector3d(xi[3], xi[4], xi[5]) * 1e-3);
   }
 
-  // 3. The linearised problem at the solution: residuals and design in reduced coordinates.
-  std::vector<Observation> aligned(observations.begin(), observations.end());
-  for (auto& o : aligned) o.measured_mm = out.alignment * o.measured_mm;
-  auto lin = LineariseObservations(model, out.fitted, active, aligned);
-  if (!lin.ok()) return lin.status();
-  const Eigen::VectorXd e = lin->measured_dev_um - lin->predicted_dev_um;
+  // 3. The linearised problem at the solution: residuals and design in reduced coordinates. Ceres
+  // ends at a point where it evaluated the Jacobian (the last accepted one); if that evaluation
+  // is at exactly the solution (same bits), its residuals and Jacobian are the design (Ar =
+  // d predicted / dz for z, d measured / dxi for xi: the negated and the plain Ceres blocks);
+  // otherwise the points are linearised again.
+  const int m = rank + (options.fit_alignment ? kNuisance : 0);
+  Eigen::VectorXd e(n);
+  Eigen::MatrixXd Ar(n, m);
+  const bool captured = capture.valid && capture.z == z && (!options.fit_alignment || capture.xi == xi);
+  if (captured) {
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    e = Eigen::Map<const Eigen::VectorXd>(capture.residuals_um.data(), n);
+    Ar.leftCols(rank) = -Eigen::Map<const RowMajor>(capture.J_z.data(), n, rank);
+    if (options.fit_alignment) Ar.rightCols(kNuisance) = Eigen::Map<const RowMajor>(capture.J_xi.data(), n, kNuisance);
+    capture = JacobianCapture();
+  } else {
+    std::vector<Observation> aligned(observations.begin(), observations.end());
+    for (auto& o : aligned) o.measured_mm = out.alignment * o.measured_mm;
+    auto lin = LineariseObservations(model, out.fitted, active, aligned);
+    if (!lin.ok()) return lin.status();
+    ++out.jacobian_passes;
+    e = lin->measured_dev_um - lin->predicted_dev_um;
+    Ar.leftCols(rank) = lin->J_dev_params * V_r;
+    if (options.fit_alignment) Ar.rightCols(kNuisance) = lin->J_dev_alignment;
+  }
   out.residuals_um.assign(e.data(), e.data() + e.size());
   out.rms_after_um = std::sqrt(e.squaredNorm() / static_cast<double>(n));
-  const int m = rank + (options.fit_alignment ? kNuisance : 0);
-  Eigen::MatrixXd Ar(n, m);
-  Ar.leftCols(rank) = lin->J_dev_params * V_r;
-  if (options.fit_alignment) Ar.rightCols(kNuisance) = lin->J_dev_alignment;
   const double dof = static_cast<double>(n - m);
   const double sigma2 = e.squaredNorm() / dof;
   out.sigma_um = std::sqrt(sigma2);

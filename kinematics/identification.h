@@ -141,6 +141,10 @@ struct IdentificationResult {
   double sigma_um = 0.0;             // sqrt(SSR / (n - q))
   int iterations = 0;
   std::string termination;           // Ceres termination summary
+  // Passes over all observations that evaluated the Jacobian (the costly part): the
+  // linearisation at the base errors, the Ceres evaluations it did not serve, and the
+  // linearisation at the solution unless Ceres's own last evaluation was at that very point.
+  int jacobian_passes = 0;
   std::vector<double> residuals_um;  // per observation, at the solution
 };
 

@@ -197,6 +197,71 @@ TEST(Jacobian, MatchesCentralDifferencesLargeErrors) {
   }
 }
 
+// The Jet fast paths of chain_eval.h (a rotation or axis tilt skipped when its components have
+// zero value and no derivative, a linear link as a pure translation, a rotary axis rotation in
+// double when it carries no derivative): a sparse error state where most link components are
+// exactly zero, some active coefficients at zero value (a zero value with a derivative must not
+// be skipped), some inactive ones non-zero. The Jacobian must match central differences and the
+// columns of the same coefficients with every catalog parameter active (no component skipped).
+void CheckSparse(MachineType type, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Result<MachineModel> mm = MakeMachine(type);
+  ASSERT_TRUE(mm.ok());
+  const MachineModel& m = *mm;
+  const std::vector<ParameterInfo> catalog = ParameterCatalog(m);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ErrorState e(m);
+  std::vector<std::string> active_names, all_names;
+  for (std::size_t k = 0; k < catalog.size(); ++k) {
+    const ParameterInfo& p = catalog[k];
+    const double v = u(rng) * (p.quantity == Quantity::kLength ? 10e-3 : 10e-6);
+    // k % 4: 0 active at zero, 1 active non-zero, 2 inactive non-zero, 3 inactive zero.
+    ASSERT_TRUE(e.SetParameter(m, p.name, k % 4 == 1 || k % 4 == 2 ? v : 0.0).ok()) << p.name;
+    all_names.push_back(p.name);
+    if (k % 4 <= 1) active_names.push_back(p.name);
+  }
+  Result<ActiveSet> active = SelectCoefficients(e, active_names);
+  ASSERT_TRUE(active.ok()) << active.status().ToString();
+  Result<ActiveSet> all = SelectCoefficients(e, all_names);
+  ASSERT_TRUE(all.ok()) << all.status().ToString();
+  Workspace ws;
+  const Eigen::Vector3d contact(3.0, -4.0, 12.0);
+  for (int trial = 0; trial < 12; ++trial) {
+    const AxisState s = RandomState(m, rng, trial);
+    Eigen::Matrix<double, 3, Eigen::Dynamic> J, J_all;
+    const Eigen::Vector3d p = ToolPointJacobian(m, e, *active, s, contact, &J);
+    ToolPointJacobian(m, e, *all, s, contact, &J_all);
+    EXPECT_LT((p - ToolPointInPart(m, e, s, contact, &ws)).norm(), 1e-10);
+    for (int j = 0; j < active->size(); ++j) {
+      const int i = active->coefficients[j];
+      const std::string& name = e.coefficient_info(i).name;
+      int j_all = -1;
+      for (int k = 0; k < all->size(); ++k)
+        if (all->coefficients[k] == i) j_all = k;
+      ASSERT_GE(j_all, 0) << name;
+      // Same derivative through the full Jet chain: equal to rounding.
+      EXPECT_LT((J.col(j) - J_all.col(j_all)).norm(), 1e-12 * (1.0 + J_all.col(j_all).norm()))
+          << MachineTypeName(type) << " " << name;
+      const double x0 = e.coefficient(i);
+      const double h = 1e-5 / std::max(1.0, J.col(j).norm());
+      e.set_coefficient(i, x0 + h);
+      const Eigen::Vector3d pp = ToolPointInPart(m, e, s, contact, &ws);
+      e.set_coefficient(i, x0 - h);
+      const Eigen::Vector3d pm = ToolPointInPart(m, e, s, contact, &ws);
+      e.set_coefficient(i, x0);
+      const Eigen::Vector3d fd = (pp - pm) / (2 * h);
+      EXPECT_LT((fd - J.col(j)).norm(), 1e-6 * (1.0 + J.col(j).norm()))
+          << MachineTypeName(type) << " " << name;
+    }
+  }
+}
+
+TEST(Jacobian, SparseErrorsFastPathsMatchCentralDifferences) {
+  for (MachineType t : {MachineType::kAcTable, MachineType::kBcTable, MachineType::kBheadCtable, MachineType::kXyz}) {
+    CheckSparse(t, 15);
+  }
+}
+
 TEST(Jacobian, InactiveConditionGivesZeroColumn) {
   Result<MachineModel> m = MakeMachine(MachineType::kAcTable);
   ASSERT_TRUE(m.ok());

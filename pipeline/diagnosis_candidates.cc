@@ -163,8 +163,14 @@ Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel
     for (const auto& e : term.effects) slot_index(e.axis, e.component);
   }
   if (slots.empty()) slot_index(Axis::kX, kinematics::Component::kTx);  // the design still needs a call
-  // 2. One probe term per slot: a power-0 polynomial (value 1, no condition) at zero.
-  kinematics::ErrorState probe = errors;
+  // 2. One probe term per slot: a power-0 polynomial (value 1, no condition) at zero. Terms of
+  // `errors` whose coefficients are all zero (the candidate terms) are left out of the probe:
+  // they add exactly 0 to every link error, and would only be evaluated at every chain call.
+  kinematics::ErrorState probe(machine);
+  for (const auto& t : errors.terms()) {
+    if (std::all_of(t.coefficients.begin(), t.coefficients.end(), [](double c) { return c == 0.0; })) continue;
+    if (Status st = probe.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot probe");
+  }
   std::vector<std::string> probe_names;
   for (std::size_t k = 0; k < slots.size(); ++k) {
     kinematics::ErrorTerm t;
@@ -187,22 +193,28 @@ Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel
   for (std::size_t k = 0; k < slots.size(); ++k)
     dslot.col(static_cast<Eigen::Index>(k)) *=
         probe.coefficient_info(active->coefficients[k]).display_per_internal;
-  // 3. Chain rule per coefficient.
+  // 3. Chain rule per coefficient (the basis of each term evaluated once per point for all its
+  // coefficients).
   const auto n = static_cast<Eigen::Index>(obs.size());
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(coefficients.size()));
+  std::map<int, std::vector<std::size_t>> columns_of_term;
+  for (std::size_t j = 0; j < coefficients.size(); ++j)
+    columns_of_term[errors.coefficient_info(coefficients[j]).term].push_back(j);
   std::vector<double> w;
-  for (std::size_t j = 0; j < coefficients.size(); ++j) {
-    const auto& info = errors.coefficient_info(coefficients[j]);
-    const auto& term = errors.terms()[static_cast<std::size_t>(info.term)];
+  for (const auto& [term_index, columns] : columns_of_term) {
+    const auto& term = errors.terms()[static_cast<std::size_t>(term_index)];
     std::vector<std::pair<int, double>> sg;
     for (const auto& e : term.effects) sg.emplace_back(slot_index(e.axis, e.component), e.gain);
     for (Eigen::Index i = 0; i < n; ++i) {
       kinematics::EvaluateTermBasis(term, obs[static_cast<std::size_t>(i)].cut.axes, &w);
-      const double b = w[static_cast<std::size_t>(info.index)];
-      if (b == 0.0) continue;
-      double v = 0;
-      for (const auto& [k, g] : sg) v += g * dslot(i, k);
-      J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
+      for (std::size_t j : columns) {
+        const auto& info = errors.coefficient_info(coefficients[j]);
+        const double b = w[static_cast<std::size_t>(info.index)];
+        if (b == 0.0) continue;
+        double v = 0;
+        for (const auto& [k, g] : sg) v += g * dslot(i, k);
+        J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
+      }
     }
   }
   lin->J_dev_params = std::move(J);
