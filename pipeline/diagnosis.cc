@@ -506,10 +506,86 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     dof_final = base.rank + best.rank;
     for (const auto& [family, k] : best_of_family) {
       if (family == best.family || !results[k].significant) continue;
-      if (adds_beyond(v, k) > options.alpha) {
-        out.verdict.indistinguishable_from.push_back(family);
-      } else if (!out.verdict.also && adds_beyond(k, v) < alpha_each) {
-        out.verdict.also = family;
+      if (adds_beyond(v, k) > options.alpha) out.verdict.indistinguishable_from.push_back(family);
+    }
+  }
+  // The runner-up: of the significant candidates of other families (not indistinguishable from
+  // the verdict), the one that adds most beyond base + verdict (smallest p, a forward-selection
+  // step); `also` when that is significant.
+  std::optional<std::size_t> runner;
+  double p_runner = 1.0;
+  if (!order.empty() && results[order.front()].significant) {
+    const std::size_t v = order.front();
+    const auto& ind = out.verdict.indistinguishable_from;
+    for (auto k : order) {
+      if (!results[k].significant || results[k].family == results[v].family ||
+          std::find(ind.begin(), ind.end(), results[k].family) != ind.end())
+        continue;
+      const double p = adds_beyond(k, v);
+      if (!runner || p < p_runner) runner = k, p_runner = p;
+    }
+    if (runner && p_runner < alpha_each) out.verdict.also = results[*runner].family;
+  }
+  // The verdict and the runner-up of another family, fitted jointly when the two are close.
+  // Close: the runner-up adds significantly beyond the verdict, or else the next candidate of
+  // another family in the ranking is not separated from the verdict by prediction.
+  if (!order.empty() && results[order.front()].significant) {
+    const std::size_t v = order.front();
+    std::string why;
+    if (runner && p_runner < alpha_each) {
+      why = "it adds significantly beyond the verdict";
+    } else {
+      runner.reset();
+      for (auto k : order)
+        if (results[k].significant && results[k].family != results[v].family) {
+          if (!beats(v, k)) {
+            runner = k;
+            why = "the ranking does not separate it from the verdict by prediction";
+          }
+          break;
+        }
+    }
+    if (runner) {
+      const std::size_t k = *runner;
+      const double p_beyond = adds_beyond(k, v);
+      {
+        const auto& cv = catalogue->candidates[v];
+        const auto& ck = catalogue->candidates[k];
+        Eigen::MatrixXd C(n, cv.J_dev_effect.cols() + ck.J_dev_effect.cols());
+        C << cv.J_dev_effect, ck.J_dev_effect;
+        const Projected b = ProjectCandidate(C, base.U, options.absorbed_tolerance);
+        PairFit pf;
+        pf.families = {results[v].family, results[k].family};
+        pf.names = {results[v].name, results[k].name};
+        pf.why = why;
+        pf.rank = b.rank;
+        pf.p_value_beyond_verdict = p_beyond;
+        const Eigen::VectorXd r2 = r0 - b.U * (b.U.transpose() * r0);
+        pf.rms_after_um = Rms(r2);
+        pf.shrink_pct = out.rms_um > 0 ? 100.0 * (1.0 - pf.rms_after_um / out.rms_um) : 0.0;
+        const bool by_features = !traces[v].held_out.empty() && !traces[k].held_out.empty();
+        const GroupCvResult cv2 = by_features ? feature_cv.Evaluate(b.U, r2) : cv0;
+        if (by_features && count(cv2.holdable) == count(cv0.holdable)) {
+          pf.cv_rms_before_um = cv0.RmsOver(cv2.holdable);
+          pf.cv_rms_after_um = cv2.Rms();
+        } else {
+          pf.cv_method = "leave-one-point-out";
+          pf.cv_rms_before_um = press_before;
+          pf.cv_rms_after_um = Rms(Press(r2, h0 + RowSquaredNorms(b.U)));
+        }
+        pf.cv_shrink_pct = pf.cv_rms_before_um > 0 ? 100.0 * (1.0 - pf.cv_rms_after_um / pf.cv_rms_before_um) : 0.0;
+        const double dof2 = static_cast<double>(n - base.rank - b.rank);
+        const double s2 = dof2 > 0 ? r2.squaredNorm() / dof2 : 0.0;
+        const Eigen::VectorXd coef = b.B * (b.U.transpose() * r0);
+        std::vector<std::pair<std::string, std::string>> names_units;
+        for (const auto* c : {&cv, &ck})
+          for (std::size_t j = 0; j < c->parameter_names.size(); ++j) names_units.emplace_back(c->parameter_names[j], c->units[j]);
+        for (Eigen::Index j = 0; j < coef.size(); ++j) {
+          const auto& [name, unit] = names_units[static_cast<std::size_t>(j)];
+          pf.parameters.push_back({name, unit, coef(j), std::sqrt(s2 * b.B.row(j).squaredNorm()),
+                                   b.identifiable[static_cast<std::size_t>(j)]});
+        }
+        out.pair = std::move(pf);
       }
     }
   }

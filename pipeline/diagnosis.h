@@ -171,6 +171,24 @@ struct Verdict {
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict
 };
 
+// The verdict and the runner-up (the best significant candidate of another family) fitted
+// together, when the top two are close: the pairwise ranking does not separate them by
+// prediction, or the runner-up still adds significantly beyond the verdict. The verdict itself
+// stays one family (contract section 4); this says how much more the pair explains.
+struct PairFit {
+  std::vector<std::string> families;  // verdict's, runner-up's
+  std::vector<std::string> names;
+  std::string why;                    // which closeness test selected the pair
+  int rank = 0;                       // joint directions left after projecting out the base
+  double rms_after_um = 0.0, shrink_pct = 0.0;
+  // Cross-validated as the two candidates were: leave-one-feature-out over the features the
+  // joint design can hold out when both were judged that way, else leave-one-point-out (PRESS).
+  double cv_rms_before_um = 0.0, cv_rms_after_um = 0.0, cv_shrink_pct = 0.0;
+  std::string cv_method = "leave-one-feature-out";
+  double p_value_beyond_verdict = 1.0;  // F-test: the runner-up added to base + verdict
+  std::vector<EffectParameter> parameters;  // both effects' parameters from the joint fit
+};
+
 struct DiagnosisResult {
   std::string base_model;
   int n_points = 0;
@@ -197,6 +215,7 @@ struct DiagnosisResult {
   std::vector<CandidateResult> candidates;       // best first (significant, then by cv_rms_after / cv_rms_before; unobservable last)
   std::vector<UnobservableFamily> unobservable;  // families with no observable candidate
   Verdict verdict;
+  std::optional<PairFit> pair;                   // verdict + runner-up jointly, when they are close
   std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"
   std::vector<double> gap_um;                    // per observation
   std::vector<std::string> point_feature;        // per observation

@@ -115,6 +115,23 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
   v["cv_shrink_pct"] = r.verdict.cv_shrink_pct;
   if (r.verdict.also) v["also"] = *r.verdict.also;
   j["verdict"] = v;
+  if (r.pair) {
+    const PairFit& p = *r.pair;
+    json pj;
+    pj["families"] = p.families;
+    pj["names"] = p.names;
+    pj["why"] = p.why;
+    pj["rank"] = p.rank;
+    pj["rms_after_um"] = p.rms_after_um;
+    pj["shrink_pct"] = p.shrink_pct;
+    pj["cv_method"] = p.cv_method;
+    pj["cv_rms_before_um"] = p.cv_rms_before_um;
+    pj["cv_rms_after_um"] = p.cv_rms_after_um;
+    pj["cv_shrink_pct"] = p.cv_shrink_pct;
+    pj["p_value_beyond_verdict"] = p.p_value_beyond_verdict;
+    pj["parameters"] = ParametersJson(p.parameters);
+    j["pair"] = pj;
+  }
   json un = json::array();
   for (const auto& u : r.unobservable) un.push_back({{"family", u.family}, {"reason", u.reason}});
   j["unobservable"] = un;
@@ -170,6 +187,11 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     o += "\n";
   }
   if (r.verdict.also) o += "  a second effect adds beyond it: " + *r.verdict.also + "\n";
+  if (r.pair)
+    o += fmt::format("  with {} fitted jointly ({}): shrink {:.1f} % in-sample, {:.1f} % cross-validated ({}); "
+                     "p = {:.3g} for the second given the first\n",
+                     r.pair->names.back(), r.pair->why, r.pair->shrink_pct, r.pair->cv_shrink_pct, r.pair->cv_method,
+                     r.pair->p_value_beyond_verdict);
   if (r.verdict.family != "none" && !r.candidates.empty()) {
     const auto& best = r.candidates.front();
     o += "  parameters:\n";

@@ -151,16 +151,22 @@ std::string DiagnosisSection(const RunResult& r) {
   }
   const DiagnosisResult& d = *r.diagnosis;
   const Verdict& v = d.verdict;
+  const std::string cv_method = (v.family != "none" && !d.candidates.empty()) ? d.candidates.front().cv_method
+                                                                               : std::string("leave-one-feature-out");
   h += fmt::format(
       "<p id=\"verdict\"><b>Verdict: {}</b> ({}): the gap shrinks by {}&nbsp;% in sample, {}&nbsp;% cross-validated "
-      "(leave one point out).",
-      E(v.family), E(v.name), F(v.shrink_pct, 1), F(v.cv_shrink_pct, 1));
+      "({}).",
+      E(v.family), E(v.name), F(v.shrink_pct, 1), F(v.cv_shrink_pct, 1), E(cv_method));
   if (!v.indistinguishable_from.empty()) {
     std::string list;
     for (const auto& f : v.indistinguishable_from) list += (list.empty() ? "" : ", ") + E(f);
     h += " Indistinguishable on this piece and plan from: " + list + ".";
   }
   if (v.also) h += " Also significant beyond the verdict: " + E(*v.also) + ".";
+  if (d.pair)
+    h += fmt::format(" Fitted together with {} ({}): shrink {}&nbsp;% in sample, {}&nbsp;% cross-validated ({}).",
+                     E(d.pair->names.back()), E(d.pair->why), F(d.pair->shrink_pct, 1), F(d.pair->cv_shrink_pct, 1),
+                     E(d.pair->cv_method));
   h += "</p>\n";
   h += fmt::format(
       "<p class=\"meta\">Base model: {} ({} columns). Gap: RMS {} um, largest {} um over {} points; noise sigma {} "
