@@ -481,18 +481,20 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   for (auto k : order) best_of_family.try_emplace(results[k].family, k);
 
   // Residual after the base and candidate k, and the test of adding candidate j to it.
-  auto adds_beyond = [&](std::size_t j, std::size_t k) -> double {  // p-value of j given base + k
+  // F statistic and p-value of candidate j added to base + candidate k ({0, 1} when j adds nothing).
+  auto f_beyond = [&](std::size_t j, std::size_t k) -> std::pair<double, double> {
     Eigen::MatrixXd Q(n, base.U.cols() + bases[k].U.cols());
     Q << base.U, bases[k].U;
     const Eigen::VectorXd rk = r0 - bases[k].U * (bases[k].U.transpose() * r0);
     Projected bj = ProjectCandidate(catalogue->candidates[j].J_dev_effect, Q, options.absorbed_tolerance);
-    if (bj.rank == 0) return 1.0;
+    if (bj.rank == 0) return {0.0, 1.0};
     const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
     const double dof = static_cast<double>(n - Q.cols() - bj.rank);
-    if (dof <= 0 || rjk.squaredNorm() <= 0) return 1.0;
+    if (dof <= 0 || rjk.squaredNorm() <= 0) return {0.0, 1.0};
     const double f = ((rk.squaredNorm() - rjk.squaredNorm()) / bj.rank) / (rjk.squaredNorm() / dof);
-    return FUpperTail(f, bj.rank, dof);
+    return {f, FUpperTail(f, bj.rank, dof)};
   };
+  auto adds_beyond = [&](std::size_t j, std::size_t k) { return f_beyond(j, k).second; };  // p-value
   double ssr_final = ssr0;
   int dof_final = base.rank;
   if (!order.empty() && results[order.front()].significant) {
@@ -509,20 +511,21 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       if (adds_beyond(v, k) > options.alpha) out.verdict.indistinguishable_from.push_back(family);
     }
   }
-  // The runner-up: of the significant candidates of other families (not indistinguishable from
-  // the verdict), the one that adds most beyond base + verdict (smallest p, a forward-selection
-  // step); `also` when that is significant.
+  // The runner-up: of the best significant candidates of the other families (not
+  // indistinguishable from the verdict), the one that adds most beyond base + verdict (smallest
+  // p, largest F: a forward-selection step); `also` when that is significant.
   std::optional<std::size_t> runner;
-  double p_runner = 1.0;
+  double p_runner = 1.0, f_runner = 0.0;
   if (!order.empty() && results[order.front()].significant) {
     const std::size_t v = order.front();
     const auto& ind = out.verdict.indistinguishable_from;
-    for (auto k : order) {
-      if (!results[k].significant || results[k].family == results[v].family ||
-          std::find(ind.begin(), ind.end(), results[k].family) != ind.end())
+    for (const auto& [family, k] : best_of_family) {
+      if (!results[k].significant || family == results[v].family ||
+          std::find(ind.begin(), ind.end(), family) != ind.end())
         continue;
-      const double p = adds_beyond(k, v);
-      if (!runner || p < p_runner) runner = k, p_runner = p;
+      // The largest F (p underflows to 0 for several strong effects; F still orders them).
+      const auto [f, p] = f_beyond(k, v);
+      if (!runner || f > f_runner) runner = k, p_runner = p, f_runner = f;
     }
     if (runner && p_runner < alpha_each) out.verdict.also = results[*runner].family;
   }
