@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <regex>
 #include <set>
 
 #include "core/units.h"
+#include "kinematics/errors_yaml.h"
 
 namespace tpcal::kinematics {
 
@@ -556,9 +559,36 @@ Result<ActiveSet> SelectCoefficients(const ErrorState& errors, const std::vector
 
 Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* errors,
                                      const std::vector<std::string>& names) {
+  // Polynomial error motions of linear axes asked for by coefficient name ("E_ZX.c2"): symbol ->
+  // powers, for symbols the state has no term of.
+  static const std::regex kPolynomial("^(E_[XYZABC][XYZ])\\.c([0-9]{1,2})$");
+  std::map<std::string, std::vector<int>> powers;
   for (const std::string& n : names) {
     if (errors->FindCoefficient(n)) continue;
-    if (LookupParameter(model, n).ok()) TPCAL_RETURN_IF_ERROR(errors->SetParameter(model, n, 0.0));
+    if (LookupParameter(model, n).ok()) {
+      TPCAL_RETURN_IF_ERROR(errors->SetParameter(model, n, 0.0));
+      continue;
+    }
+    std::smatch m;
+    if (std::regex_match(n, m, kPolynomial)) powers[m[1].str()].push_back(std::stoi(m[2].str()));
+  }
+  for (auto& [symbol, p] : powers) {
+    const bool exists = std::any_of(errors->terms().begin(), errors->terms().end(),
+                                    [&](const ErrorTerm& t) { return t.label == symbol; });
+    if (exists) continue;  // SelectCoefficients names the power that term lacks
+    std::sort(p.begin(), p.end());
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    std::string list, zeros;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      list += (k ? ", " : "") + std::to_string(p[k]);
+      zeros += k ? ", 0" : "0";
+    }
+    const bool angular = symbol[2] == 'A' || symbol[2] == 'B' || symbol[2] == 'C';
+    const std::string text = "effects:\n  - linear_error_motion: {symbol: " + symbol + ", powers: [" + list +
+                             "], coefficients_" + (angular ? "urad" : "um") + "_per_mm_pow: [" + zeros + "]}\n";
+    auto parsed = ParseErrorState(text, "<parameters " + symbol + ">", model);
+    if (!parsed.ok()) return parsed.status();
+    for (const ErrorTerm& t : parsed->terms()) TPCAL_RETURN_IF_ERROR(errors->AddTerm(model, t));
   }
   return SelectCoefficients(*errors, names);
 }

@@ -138,7 +138,10 @@ Result<ActiveSet> SelectCoefficients(const ErrorState& errors, const std::vector
 ActiveSet AllCoefficients(const ErrorState& errors);
 // Like SelectCoefficients, but first adds a zero-valued constant term for each name that is a
 // catalog parameter (LookupParameter) not yet present in `errors`: e.g. freeing Seed002Set() or
-// IsoLocationSet() of a machine starting from zero errors.
+// IsoLocationSet() of a machine starting from zero errors; and for names of polynomial error
+// motions of a linear axis, "E_ZX.c2" (ISO 230-1 symbol, power of the axis position in mm), one
+// zero-valued polynomial term per symbol with the powers named (when the state has no term of
+// that symbol). Errors: unknown names, axes the machine lacks (kInvalidArgument).
 Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* errors,
                                      const std::vector<std::string>& names);
 

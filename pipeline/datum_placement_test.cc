@@ -6,6 +6,7 @@
 // 0.5 um, several placement seeds. Tolerance: residual sigma within 0.15 um of the noise (n >> q).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "kinematics/error_parameters.h"
@@ -21,16 +22,23 @@ constexpr double kNoise_um = 0.5;
 constexpr double kSigmaTol_um = 0.15;  // sample sigma of a few hundred residuals, q << n
 
 // Every parameter of the piece's default identification set at a small value (5, 8, 11 ...
-// um or urad, alternating sign).
+// um or urad, alternating sign; a polynomial error-motion coefficient "E_ZX.cP" such that the
+// term reaches that value at 100 mm of axis travel).
 Result<kinematics::ErrorState> SmallLocationErrors(const PieceSetup& setup) {
   kinematics::ErrorState errors(setup.machine);
   const auto names = DefaultParameterSet(setup.piece, setup.machine);
+  auto active = kinematics::ActivateParameters(setup.machine, &errors, names);
+  if (!active.ok()) return active.status();
   for (std::size_t k = 0; k < names.size(); ++k) {
-    auto info = kinematics::LookupParameter(setup.machine, names[k]);
-    if (!info.ok()) return info.status();
     const double display = (k % 2 ? -1.0 : 1.0) * (5.0 + 3.0 * static_cast<double>(k % 5));  // um or urad
-    const double internal = display * (info->quantity == kinematics::Quantity::kAngle ? 1e-6 : 1e-3);
-    if (Status s = errors.SetParameter(setup.machine, names[k], internal); !s.ok()) return s;
+    const int c = active->coefficients[k];
+    if (auto info = kinematics::LookupParameter(setup.machine, names[k]); info.ok()) {
+      const double internal = display * (info->quantity == kinematics::Quantity::kAngle ? 1e-6 : 1e-3);
+      if (Status s = errors.SetParameter(setup.machine, names[k], internal); !s.ok()) return s;
+    } else {
+      const int power = std::stoi(names[k].substr(names[k].rfind(".c") + 2));
+      errors.set_coefficient(c, display * 1e-3 / std::pow(100.0, power));  // mm per mm^power
+    }
   }
   return errors;
 }

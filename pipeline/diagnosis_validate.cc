@@ -281,8 +281,11 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
           // The piece as measured: random base errors + the scaled effect, noise, placement.
           kinematics::ErrorState truth = base_state;
           for (int c : base_active->coefficients) {
-            const double per = truth.coefficient_info(c).display_per_internal;
-            truth.set_coefficient(c, Uniform(rng, -options.base_error, options.base_error) / per);
+            const auto& info = truth.coefficient_info(c);
+            // A polynomial coefficient (unit "um_per_mm_powP") reaches the drawn value at 100 mm.
+            const auto at = info.unit.find("_per_mm_pow");
+            const double lever = at == std::string::npos ? 1.0 : std::pow(100.0, std::stoi(info.unit.substr(at + 11)));
+            truth.set_coefficient(c, Uniform(rng, -options.base_error, options.base_error) / lever / info.display_per_internal);
           }
           if (w->terms)
             for (const auto& term : w->terms->terms()) TPCAL_RETURN_IF_ERROR(truth.AddTerm(machine, term));

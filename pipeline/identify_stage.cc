@@ -41,6 +41,12 @@ std::vector<std::string> DefaultParameterSet(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine) {
   if (piece.kind() == testpieces::PieceKind::kTurning && machine.type == kinematics::MachineType::kAcTable)
     return kinematics::Seed002Set(machine);
+  // M2's strips are cut by X feeds at constant Z and datum on themselves: location and
+  // squareness errors only tilt or shift them (absorbed by the datum), while the straightness of
+  // X in Z bends them: its quadratic and cubic terms (offset and slope are the datum's).
+  if (piece.kind() == testpieces::PieceKind::kFaceMillingM2 && machine.HasAxis(kinematics::Axis::kX) &&
+      machine.HasAxis(kinematics::Axis::kZ))
+    return {"E_ZX.c2", "E_ZX.c3"};
   return kinematics::IsoLocationSet(machine);
 }
 
@@ -52,10 +58,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
   std::vector<std::string> parameters =
       options.parameters.empty() ? DefaultParameterSet(piece, machine) : options.parameters;
   kinematics::ErrorState base(machine);
-  for (const auto& name : parameters) {
-    if (Status s = base.SetParameter(machine, name, 0.0); !s.ok()) return s;
-  }
-  auto active = kinematics::SelectCoefficients(base, parameters);
+  auto active = kinematics::ActivateParameters(machine, &base, parameters);
   if (!active.ok()) return active.status();
 
   // Each measured point is associated with the nominal surface point at its foot (the cut that

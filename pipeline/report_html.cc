@@ -53,6 +53,13 @@ std::string F(double v, int decimals = 3) {
 
 std::string G(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-"; }
 
+// A parameter value in its display unit: fixed decimals for um and urad, four significant digits
+// for the coefficients of polynomial error motions (um per mm^k: 4e-4 would read 0.00).
+std::string P(double v, const std::string& unit, int decimals) {
+  if (unit == "um" || unit == "urad") return F(v, decimals);
+  return std::isfinite(v) ? fmt::format("{:.4g}", v) : "-";
+}
+
 const kinematics::Uncertainty* Method(const kinematics::ParameterEstimate& p, kinematics::UncertaintyMethod m) {
   for (const auto& u : p.uncertainties)
     if (u.method == m) return &u;
@@ -74,17 +81,17 @@ std::string IdentificationTable(const RunResult& r) {
     h += fmt::format("<td class=\"t\">{}</td><td class=\"t\">{}</td><td class=\"t\">{}</td>", E(p.name),
                      E(p.iso_symbol), E(p.unit));
     if (p.identifiable) {
-      h += fmt::format("<td>{}</td>", F(p.value, 2));
+      h += fmt::format("<td>{}</td>", P(p.value, p.unit, 2));
       for (auto m : {UncertaintyMethod::kAnalytic, UncertaintyMethod::kJackknifePoints,
                      UncertaintyMethod::kJackknifeGroups, UncertaintyMethod::kMonteCarlo}) {
         const auto* u = Method(p, m);
         const bool primary = m == r.config.primary;
         if (u && u->available)
-          h += fmt::format("<td>{}{}{}</td>", primary ? "<b>" : "", F(u->u, 3), primary ? "</b>" : "");
+          h += fmt::format("<td>{}{}{}</td>", primary ? "<b>" : "", P(u->u, p.unit, 3), primary ? "</b>" : "");
         else
           h += fmt::format("<td title=\"{}\">-</td>", E(u ? u->message : std::string("not computed")));
       }
-      h += fmt::format("<td>[{}, {}]</td><td class=\"t\">yes</td>", F(p.ci95_low, 2), F(p.ci95_high, 2));
+      h += fmt::format("<td>[{}, {}]</td><td class=\"t\">yes</td>", P(p.ci95_low, p.unit, 2), P(p.ci95_high, p.unit, 2));
     } else {
       h += "<td>-</td><td>-</td><td>-</td><td>-</td><td>-</td><td>-</td><td class=\"t\">no</td>";
     }
@@ -93,7 +100,7 @@ std::string IdentificationTable(const RunResult& r) {
       if (it == r.truth.end()) {
         h += "<td>-</td><td>-</td>";
       } else {
-        h += fmt::format("<td>{}</td><td>{}</td>", F(it->second, 2),
+        h += fmt::format("<td>{}</td><td>{}</td>", P(it->second, p.unit, 2),
                          p.identifiable && p.u > 0 ? F((p.value - it->second) / p.u, 2) : std::string("-"));
       }
     }

@@ -63,6 +63,10 @@ TEST(RunSample, M1SampleIsWhatItsTruthGenerates) {
   CheckOrRegenerate(kSampleDir + "m1/truth.yaml", kSampleDir + "m1/cmm_points.csv");
 }
 
+TEST(RunSample, M2SampleIsWhatItsTruthGenerates) {
+  CheckOrRegenerate(kSampleDir + "m2/truth.yaml", kSampleDir + "m2/cmm_points.csv");
+}
+
 TEST(RunSample, ConeSampleIsWhatItsTruthGenerates) {
   CheckOrRegenerate(kSampleDir + "cone/truth.yaml", kSampleDir + "cone/cmm_points.csv");
 }

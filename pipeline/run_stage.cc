@@ -78,12 +78,8 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   std::vector<std::string> parameters =
       config.parameters.empty() ? DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
   kinematics::ErrorState base(setup->machine);
-  for (const auto& name : parameters) {
-    if (Status s = base.SetParameter(setup->machine, name, 0.0); !s.ok())
-      return s.WithLocation(config.source.empty() ? "--parameters" : config.source);
-  }
-  auto active = kinematics::SelectCoefficients(base, parameters);
-  if (!active.ok()) return active.status();
+  auto active = kinematics::ActivateParameters(setup->machine, &base, parameters);
+  if (!active.ok()) return active.status().WithLocation(config.source.empty() ? "--parameters" : config.source);
   kinematics::IdentifyOptions id_options;
   id_options.primary = config.primary;
   id_options.jackknife_groups = config.jackknife_groups;

@@ -70,8 +70,13 @@ void PrintParameters(const pipeline::RunResult& r) {
   std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", "parameter", "ISO 230-1", "value", "u (k=1)",
                            "95 % interval", "unit");
   for (const auto& p : r.stage.identification.parameters) {
-    if (p.identifiable)
+    // um and urad with fixed decimals; polynomial coefficients (um per mm^k) with 4 significant digits.
+    const bool fixed = p.unit == "um" || p.unit == "urad";
+    if (p.identifiable && fixed)
       std::cout << fmt::format("{:<16} {:<22} {:>10.2f} {:>9.3f} [{:>9.2f}, {:>9.2f}]  {}\n", p.name, pipeline::ShortIsoSymbol(p.iso_symbol),
+                               p.value, p.u, p.ci95_low, p.ci95_high, p.unit);
+    else if (p.identifiable)
+      std::cout << fmt::format("{:<16} {:<22} {:>10.4g} {:>9.3g} [{:>9.4g}, {:>9.4g}]  {}\n", p.name, pipeline::ShortIsoSymbol(p.iso_symbol),
                                p.value, p.u, p.ci95_low, p.ci95_high, p.unit);
     else
       std::cout << fmt::format("{:<16} {:<22} {:>10} {:>9} {:>23}  {}\n", p.name, pipeline::ShortIsoSymbol(p.iso_symbol), "n/a", "-",
