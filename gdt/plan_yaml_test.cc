@@ -65,6 +65,18 @@ struct BadPlan {
   const char* message;
 };
 
+// Each bad plan fails with its file, line and message.
+template <std::size_t N>
+void ExpectErrorsCiteTheLine(const BadPlan (&cases)[N]) {
+  for (const BadPlan& c : cases) {
+    auto plan = ParseInspectionPlan(c.text, "bad.yaml");
+    ASSERT_FALSE(plan.ok()) << c.what;
+    EXPECT_EQ(plan.status().file(), "bad.yaml") << c.what;
+    EXPECT_EQ(plan.status().line(), c.line) << c.what << ": " << plan.status().ToString();
+    EXPECT_THAT(plan.status().message(), HasSubstr(c.message)) << c.what;
+  }
+}
+
 TEST(ParseInspectionPlan, ErrorsCiteTheLine) {
   const std::string p = kPlan;
   const BadPlan cases[] = {
@@ -86,13 +98,7 @@ TEST(ParseInspectionPlan, ErrorsCiteTheLine) {
       {"bad nominal name", Replace(p, "datum_frame:", "nominals:\n  z_R: 405.702\ndatum_frame:"), 4,
        "must end with its unit"},
   };
-  for (const BadPlan& c : cases) {
-    auto plan = ParseInspectionPlan(c.text, "bad.yaml");
-    ASSERT_FALSE(plan.ok()) << c.what;
-    EXPECT_EQ(plan.status().file(), "bad.yaml") << c.what;
-    EXPECT_EQ(plan.status().line(), c.line) << c.what << ": " << plan.status().ToString();
-    EXPECT_THAT(plan.status().message(), HasSubstr(c.message)) << c.what;
-  }
+  ExpectErrorsCiteTheLine(cases);
 }
 
 // A datum-target frame (ISO 5459 target areas: the cone frustum's), and its errors.
@@ -146,13 +152,7 @@ TEST(ParseInspectionPlan, TargetsFrameErrorsCiteTheLine) {
       {"missing center", Replace(p, "  center: CONE_1\n", ""), 4, "missing key 'center'"},
       {"unknown feature", Replace(p, "  x_toward: CONE_1", "  x_toward: CONE_9"), 4, "unknown feature 'CONE_9'"},
   };
-  for (const BadPlan& c : cases) {
-    auto plan = ParseInspectionPlan(c.text, "bad.yaml");
-    ASSERT_FALSE(plan.ok()) << c.what;
-    EXPECT_EQ(plan.status().file(), "bad.yaml") << c.what;
-    EXPECT_EQ(plan.status().line(), c.line) << c.what << ": " << plan.status().ToString();
-    EXPECT_THAT(plan.status().message(), HasSubstr(c.message)) << c.what;
-  }
+  ExpectErrorsCiteTheLine(cases);
   auto turning = ParseInspectionPlan(Replace(kPlan, "  x_toward: H1\n", "  x_toward: H1\n  y_toward: H1\n"), "bad.yaml");
   ASSERT_FALSE(turning.ok());
   EXPECT_EQ(turning.status().line(), 8u) << turning.status().ToString();

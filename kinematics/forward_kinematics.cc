@@ -95,19 +95,7 @@ void UpdateLink(const AxisLink& link, const LinkErrors& e, double q, LinkMemo* m
   const Eigen::Vector3d& k = m->k;
   const double sq = link.motion_sign() * q;
   if (IsRotary(link.axis)) {
-    double s, c;
-    chain_internal::SinCos(sq, &s, &c);
-    const double one_c = 1.0 - c;
-    Eigen::Matrix3d rg;
-    rg(0, 0) = c + one_c * k(0) * k(0);
-    rg(1, 1) = c + one_c * k(1) * k(1);
-    rg(2, 2) = c + one_c * k(2) * k(2);
-    rg(0, 1) = one_c * k(0) * k(1) - s * k(2);
-    rg(1, 0) = one_c * k(0) * k(1) + s * k(2);
-    rg(0, 2) = one_c * k(0) * k(2) + s * k(1);
-    rg(2, 0) = one_c * k(0) * k(2) - s * k(1);
-    rg(1, 2) = one_c * k(1) * k(2) - s * k(0);
-    rg(2, 1) = one_c * k(1) * k(2) + s * k(0);
+    const Eigen::Matrix3d rg = chain_internal::Rodrigues<double>(k, sq);  // the templated chain's formula
     const Eigen::Vector3d l_t(e[6], e[7], e[8]);
     const Eigen::Vector3d t_g = l_t - rg * l_t;
     if (m->has_r) {
