@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/parallel.h"
 #include "core/units.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/forward_kinematics.h"
@@ -52,22 +53,9 @@ std::string IsoSymbolOf(const MachineModel& model, const std::string& name) {
   return info.ok() ? info->iso_symbol : std::string();
 }
 
-// Runs fn(begin, end) over [0, n) in contiguous chunks on up to hardware_concurrency threads
-// (one chunk per thread; small n runs inline). Each index is written by exactly one call, so
-// results do not depend on the thread count. Returns false if any call returned false.
+// Per-point loops: on up to HardwareThreads() threads, one per 2048 points (core/parallel.h).
 bool ParallelChunks(std::size_t n, const std::function<bool(std::size_t, std::size_t)>& fn) {
-  const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t threads = std::min<std::size_t>(hw, n / 2048 + 1);
-  if (threads <= 1) return fn(0, n);
-  std::vector<std::thread> pool;
-  std::vector<char> ok(threads, 1);
-  const std::size_t chunk = (n + threads - 1) / threads;
-  for (std::size_t t = 0; t < threads; ++t) {
-    const std::size_t b = t * chunk, e = std::min(n, b + chunk);
-    pool.emplace_back([&, t, b, e] { ok[t] = (b >= e || fn(b, e)) ? 1 : 0; });
-  }
-  for (auto& th : pool) th.join();
-  return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+  return tpcal::ParallelChunks(n, 2048, fn);
 }
 
 // Orthonormal basis of the nuisance columns (n x 6) or an empty matrix.
@@ -287,12 +275,18 @@ Status IdentifyOptions::Validate() const {
   return {};
 }
 
-Result<LinearDesign> LineariseObservations(const MachineModel& model, const ErrorState& errors,
-                                           const ActiveSet& active, std::span<const Observation> observations) {
+namespace {
+
+// The design with `q` parameter columns: row(o, sp) returns d s / d parameter (mm per internal
+// unit) at the solution sp of observation o; column k is then scaled by 1000 / scales[k] (um per
+// display unit).
+template <typename RowFn>
+Result<LinearDesign> LineariseWith(const MachineModel& model, const ErrorState& errors, int q,
+                                   const std::vector<double>& scales, std::span<const Observation> observations,
+                                   const RowFn& row_of) {
   const auto n = static_cast<Eigen::Index>(observations.size());
-  const std::vector<double> scales = DisplayScales(errors, active);
   LinearDesign d;
-  d.J_dev_params.resize(n, active.size());
+  d.J_dev_params.resize(n, q);
   d.J_dev_alignment.resize(n, kNuisance);
   d.measured_dev_um.resize(n);
   d.predicted_dev_um.resize(n);
@@ -305,13 +299,13 @@ Result<LinearDesign> LineariseObservations(const MachineModel& model, const Erro
       const Observation& o = observations[ii];
       auto sp = SimulateSurfacePoint(model, errors, o.cut, &ws);
       Result<Eigen::RowVectorXd> row = Status(StatusCode::kInternal, "");
-      if (sp.ok()) row = SurfaceDeviationJacobian(model, errors, active, o.cut, *sp);
+      if (sp.ok()) row = row_of(o, *sp);
       if (!sp.ok() || !row.ok()) {
         std::lock_guard<std::mutex> lock(failure_mutex);
         failures[0] = (sp.ok() ? row.status() : sp.status()).WithContext("observation " + std::to_string(ii));
         return false;
       }
-      for (int k = 0; k < active.size(); ++k) d.J_dev_params(i, k) = MmToUm((*row)(k)) / scales[k];
+      for (int k = 0; k < q; ++k) d.J_dev_params(i, k) = MmToUm((*row)(k)) / scales[static_cast<std::size_t>(k)];
       const Eigen::Vector3d& n0 = o.cut.nominal_normal;
       const Eigen::Vector3d mxn = o.measured_mm.cross(n0);
       for (int k = 0; k < 3; ++k) d.J_dev_alignment(i, k) = mxn(k) * kUmPerUradPerMm;
@@ -323,6 +317,29 @@ Result<LinearDesign> LineariseObservations(const MachineModel& model, const Erro
   });
   if (!all_ok) return failures[0];
   return d;
+}
+
+}  // namespace
+
+Result<LinearDesign> LineariseObservations(const MachineModel& model, const ErrorState& errors,
+                                           const ActiveSet& active, std::span<const Observation> observations) {
+  return LineariseWith(model, errors, active.size(), DisplayScales(errors, active), observations,
+                       [&](const Observation& o, const SurfacePoint& sp) {
+                         return SurfaceDeviationJacobian(model, errors, active, o.cut, sp);
+                       });
+}
+
+Result<LinearDesign> LineariseSlotObservations(const MachineModel& model, const ErrorState& errors,
+                                               std::span<const ErrorSlot> slots,
+                                               std::span<const Observation> observations) {
+  for (const ErrorSlot& s : slots)
+    if (!model.HasAxis(s.axis))
+      return Status(StatusCode::kInvalidArgument, std::string("error slot on axis ") + AxisLetter(s.axis) +
+                                                      ", which the machine does not have");
+  return LineariseWith(model, errors, static_cast<int>(slots.size()), std::vector<double>(slots.size(), 1.0),
+                       observations, [&](const Observation& o, const SurfacePoint& sp) {
+                         return SurfaceDeviationSlotJacobian(model, errors, slots, o.cut, sp);
+                       });
 }
 
 Result<IdentificationResult> Identify(const MachineModel& model, const ErrorState& base,

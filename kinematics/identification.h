@@ -54,6 +54,7 @@
 #include "core/frames.h"
 #include "core/status.h"
 #include "kinematics/error_state.h"
+#include "kinematics/jacobians.h"
 #include "kinematics/machine_model.h"
 #include "kinematics/simulate.h"
 
@@ -165,5 +166,11 @@ struct LinearDesign {
 };
 Result<LinearDesign> LineariseObservations(const MachineModel& model, const ErrorState& errors,
                                            const ActiveSet& active, std::span<const Observation> observations);
+// The same design per error slot (jacobians.h): J_dev_params column k = d predicted deviation (um)
+// / d slot k (mm or rad, internal units). Errors: a slot on an axis the machine lacks
+// (kInvalidArgument), those of LineariseObservations.
+Result<LinearDesign> LineariseSlotObservations(const MachineModel& model, const ErrorState& errors,
+                                               std::span<const ErrorSlot> slots,
+                                               std::span<const Observation> observations);
 
 }  // namespace tpcal::kinematics

@@ -2,6 +2,7 @@
 
 #include <ceres/jet.h>
 
+#include <bitset>
 #include <vector>
 
 #include "kinematics/chain_eval.h"
@@ -24,28 +25,106 @@ std::vector<ceres::Jet<double, N>> Seed(const ErrorState& errors, const ActiveSe
   return x;
 }
 
-// Columns [begin, begin + N) of J_point_params (clipped to active.size()) by one pass with
-// Jet<double, N>. Every derivative part is computed by the same operations whatever N, so the
-// columns do not depend on how the active set is chunked.
-// Flattened: every call inlined (the Jet arithmetic otherwise stays in out-of-line Eigen loops;
-// 2.7x faster, same operations, so the same bits: result.json of the turning sample unchanged).
+using ComponentMask = std::bitset<kNumComponents>;
+
+// G (3 x kNumComponents, columns outside `mask` zero): d(L(e) u) / d e, the derivative of the
+// link transform applied to the fixed point u (parent frame of the link) in its error
+// components, by one pass of LinkTransform with Jet<double, N> (N >= mask.count()).
 template <int N>
-[[gnu::flatten]] Eigen::Vector3d ToolPointColumns(const MachineModel& model, const ErrorState& errors,
-                                 const ActiveSet& active, const AxisState& axes,
-                                 const Eigen::Vector3d& contact_in_tool_mm, int begin,
-                                 ChainScratch* scratch,
-                                 Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_params) {
-  const std::vector<ceres::Jet<double, N>> x = Seed<N>(errors, active, begin);
-  const Eigen::Matrix<ceres::Jet<double, N>, 3, 1> p = ToolPointInPartT<ceres::Jet<double, N>>(
-      model, errors, active, x.data(), axes, contact_in_tool_mm, scratch);
-  Eigen::Vector3d point;
-  for (int r = 0; r < 3; ++r) {
-    point(r) = p(r).a;
-    for (int j = begin; j < std::min(begin + N, active.size()); ++j) {
-      (*J_point_params)(r, j) = p(r).v[j - begin];
+void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
+                         const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
+  using J = ceres::Jet<double, N>;
+  std::array<J, kNumComponents> ej;
+  std::array<int, kNumComponents> slot{};
+  int k = 0;
+  for (int c = 0; c < kNumComponents; ++c) {
+    ej[static_cast<std::size_t>(c)] = J(e[static_cast<std::size_t>(c)]);
+    if (mask[static_cast<std::size_t>(c)]) {
+      ej[static_cast<std::size_t>(c)].v[k] = 1.0;
+      slot[static_cast<std::size_t>(c)] = k++;
     }
   }
-  return point;
+  const PoseT<J> l = LinkTransform<J>(link, ej.data(), J(q));
+  G->setZero();
+  for (int r = 0; r < 3; ++r) {
+    const J v = l.R(r, 0) * u(0) + l.R(r, 1) * u(1) + l.R(r, 2) * u(2) + l.t(r);
+    for (int c = 0; c < kNumComponents; ++c)
+      if (mask[static_cast<std::size_t>(c)]) (*G)(r, c) = v.v[slot[static_cast<std::size_t>(c)]];
+  }
+}
+
+void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
+                         const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
+  const std::size_t width = mask.count();
+  if (width <= 2) {
+    LinkPointDerivative<2>(link, e, q, mask, u, G);
+  } else if (width <= 4) {
+    LinkPointDerivative<4>(link, e, q, mask, u, G);
+  } else if (width <= 8) {
+    LinkPointDerivative<8>(link, e, q, mask, u, G);
+  } else {
+    LinkPointDerivative<kNumComponents>(link, e, q, mask, u, G);
+  }
+}
+
+// Per-thread scratch of ToolPointJacobian (no allocation per call once warm).
+struct JacobianScratch {
+  std::vector<LinkErrors> link_errors;
+  std::vector<double> weights;
+  std::vector<double> column_weight;  // basis weight of each active coefficient at the axes
+};
+
+
+// Per link, d(tool point in part) / d(error component) for the components in mask[link]
+// (columns outside the mask are left unset), and the tool point. The chain is
+// W = L_0 ... L_{w-1} (workpiece branch) and T = L_w ... L_{m-1} (tool branch); the tool point is
+// p = W^-1 T c. For a tool link k, T = A L_k B: dp = R_W^T R_A d(L_k)(B c). For a workpiece link
+// k, W = A L_k B and z = B p satisfies L_k z = A^-1 T c, so dp = -R_B^T R_k^T d(L_k)(z), with
+// d(L_k)(u) = G_k de (LinkPointDerivative): exact, the derivative ToolPointInPartT<Jet> gives
+// (tested), at the cost of a double chain and one narrow Jet pass per link in the mask.
+Eigen::Vector3d LinkDerivatives(const MachineModel& model, const std::vector<LinkErrors>& link_errors,
+                                const AxisState& axes, const Eigen::Vector3d& contact_in_tool_mm,
+                                const std::array<ComponentMask, kMaxLinks>& mask,
+                                std::array<Eigen::Matrix<double, 3, kNumComponents>, kMaxLinks>* D) {
+  const int m = model.num_links();
+  const int nw = model.num_workpiece_links;
+  const double q[kNumAxes] = {axes.x_mm, axes.y_mm, axes.z_mm, axes.a_rad, axes.b_rad, axes.c_rad};
+  auto qi = [&](int i) { return q[AxisIndex(model.links[static_cast<std::size_t>(i)].axis)]; };
+  std::array<PoseT<double>, kMaxLinks> L;
+  for (int i = 0; i < m; ++i)
+    L[static_cast<std::size_t>(i)] =
+        LinkTransform<double>(model.links[static_cast<std::size_t>(i)], link_errors[static_cast<std::size_t>(i)].data(), qi(i));
+  // prefix[i]: product of the links before i in its branch.
+  std::array<PoseT<double>, kMaxLinks> prefix;
+  PoseT<double> W, T;
+  for (int i = 0; i < m; ++i) {
+    PoseT<double>& acc = i < nw ? W : T;
+    prefix[static_cast<std::size_t>(i)] = acc;
+    acc = acc * L[static_cast<std::size_t>(i)];
+  }
+  const Eigen::Vector3d p = W.R.transpose() * (T * contact_in_tool_mm - W.t);
+  Eigen::Matrix<double, 3, kNumComponents> G;
+  Eigen::Vector3d u = contact_in_tool_mm;  // tool branch: u = B c, from the tip
+  for (int i = m - 1; i >= nw; --i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (mask[k].any()) {
+      LinkPointDerivative(model.links[k], link_errors[k], qi(i), mask[k], u, &G);
+      (*D)[k] = W.R.transpose() * (prefix[k].R * G);
+    }
+    u = L[k] * u;
+  }
+  Eigen::Vector3d z = p;  // workpiece branch: z = B p and R_B, from the part
+  Eigen::Matrix3d RB = Eigen::Matrix3d::Identity();
+  for (int i = nw - 1; i >= 0; --i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (mask[k].any()) {
+      LinkPointDerivative(model.links[k], link_errors[k], qi(i), mask[k], z, &G);
+      (*D)[k] = -(RB.transpose() * (L[k].R.transpose() * G));
+    }
+    z = L[k] * z;
+    RB = L[k].R * RB;
+  }
+  return p;
 }
 
 }  // namespace
@@ -54,54 +133,55 @@ Eigen::Vector3d ToolPointJacobian(const MachineModel& model, const ErrorState& e
                                   const ActiveSet& active, const AxisState& axes,
                                   const Eigen::Vector3d& contact_in_tool_mm,
                                   Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_params) {
-  ChainScratch scratch;
+  thread_local JacobianScratch scratch;
   J_point_params->setZero(3, active.size());
-  // Only the coefficients whose basis weight at `axes` is non-zero act on the chain (a
-  // conditional parameter whose condition fails, a table node out of reach): the others'
-  // columns are exactly zero and get no derivative slot.
-  ActiveSet live;
-  std::vector<int> column_of_live;
+  EvaluateLinkErrors(errors, axes, &scratch.link_errors);
+  // Basis weight of each active coefficient and the components it moves, per link; de/dx_j =
+  // gain * weight for every slot coefficient j writes (ChainInputsT).
+  std::array<ComponentMask, kMaxLinks> mask{};
+  scratch.column_weight.assign(static_cast<std::size_t>(active.size()), 0.0);
   int weights_term = -1;
   for (int j = 0; j < active.size(); ++j) {
-    const CoefficientInfo& info = errors.coefficient_info(active.coefficients[j]);
+    const CoefficientInfo& info = errors.coefficient_info(active.coefficients[static_cast<std::size_t>(j)]);
+    const ErrorTerm& term = errors.terms()[static_cast<std::size_t>(info.term)];
     if (info.term != weights_term) {
-      EvaluateTermBasis(errors.terms()[info.term], axes, &scratch.weights);
+      EvaluateTermBasis(term, axes, &scratch.weights);
       weights_term = info.term;
     }
-    if (scratch.weights[info.index] == 0.0) continue;
-    live.coefficients.push_back(active.coefficients[j]);
-    column_of_live.push_back(j);
+    const double w = scratch.weights[static_cast<std::size_t>(info.index)];
+    scratch.column_weight[static_cast<std::size_t>(j)] = w;
+    if (w == 0.0) continue;
+    for (const SlotEffect& s : term.effects)
+      mask[static_cast<std::size_t>(errors.LinkIndex(s.axis))].set(static_cast<std::size_t>(ComponentIndex(s.component)));
   }
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  if (live.size() == 0) {
-    const double* none = nullptr;
-    point = ToolPointInPartT<double>(model, errors, live, none, axes, contact_in_tool_mm, &scratch);
-    return point;
+  std::array<Eigen::Matrix<double, 3, kNumComponents>, kMaxLinks> D;
+  const Eigen::Vector3d p = LinkDerivatives(model, scratch.link_errors, axes, contact_in_tool_mm, mask, &D);
+  for (int j = 0; j < active.size(); ++j) {
+    const double w = scratch.column_weight[static_cast<std::size_t>(j)];
+    if (w == 0.0) continue;
+    const CoefficientInfo& info = errors.coefficient_info(active.coefficients[static_cast<std::size_t>(j)]);
+    for (const SlotEffect& s : errors.terms()[static_cast<std::size_t>(info.term)].effects)
+      J_point_params->col(j) +=
+          (s.gain * w) * D[static_cast<std::size_t>(errors.LinkIndex(s.axis))].col(ComponentIndex(s.component));
   }
-  Eigen::Matrix<double, 3, Eigen::Dynamic> J_live(3, live.size());
-  // One pass per 24 columns, each with the narrowest Jet that holds its columns (the cost of a
-  // pass grows with the Jet width; the value part is computed once per pass).
-  for (int begin = 0; begin < live.size(); begin += 24) {
-    const int width = live.size() - begin;
-    auto columns = [&]<int N>() {
-      point = ToolPointColumns<N>(model, errors, live, axes, contact_in_tool_mm, begin, &scratch, &J_live);
-    };
-    if (width <= 4) {
-      columns.template operator()<4>();
-    } else if (width <= 8) {
-      columns.template operator()<8>();
-    } else if (width <= 12) {
-      columns.template operator()<12>();
-    } else if (width <= 16) {
-      columns.template operator()<16>();
-    } else if (width <= 20) {
-      columns.template operator()<20>();
-    } else {
-      columns.template operator()<24>();
-    }
-  }
-  for (int k = 0; k < live.size(); ++k) J_point_params->col(column_of_live[k]) = J_live.col(k);
-  return point;
+  return p;
+}
+
+Eigen::Vector3d ToolPointSlotJacobian(const MachineModel& model, const ErrorState& errors, const AxisState& axes,
+                                      const Eigen::Vector3d& contact_in_tool_mm, std::span<const ErrorSlot> slots,
+                                      Eigen::Matrix<double, 3, Eigen::Dynamic>* J_point_slots) {
+  thread_local JacobianScratch scratch;
+  EvaluateLinkErrors(errors, axes, &scratch.link_errors);
+  std::array<ComponentMask, kMaxLinks> mask{};
+  for (const ErrorSlot& s : slots)
+    mask[static_cast<std::size_t>(errors.LinkIndex(s.axis))].set(static_cast<std::size_t>(ComponentIndex(s.component)));
+  std::array<Eigen::Matrix<double, 3, kNumComponents>, kMaxLinks> D;
+  const Eigen::Vector3d p = LinkDerivatives(model, scratch.link_errors, axes, contact_in_tool_mm, mask, &D);
+  J_point_slots->resize(3, static_cast<Eigen::Index>(slots.size()));
+  for (std::size_t k = 0; k < slots.size(); ++k)
+    J_point_slots->col(static_cast<Eigen::Index>(k)) =
+        D[static_cast<std::size_t>(errors.LinkIndex(slots[k].axis))].col(ComponentIndex(slots[k].component));
+  return p;
 }
 
 void PartFromToolJacobian(const MachineModel& model, const ErrorState& errors,

@@ -278,10 +278,9 @@ Status SimulateSurfacePoints(const MachineModel& model, const ErrorState& errors
   return Status::Ok();
 }
 
-Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
-                                                   const ErrorState& errors,
-                                                   const ActiveSet& active, const CutPoint& cut,
-                                                   const SurfacePoint& solved) {
+// r = -e3^T [S_u S_v -n0]^-1 at the exact solution `solved`: d s = r dS (implicit function theorem).
+static Result<Eigen::RowVector3d> DeviationRow(const MachineModel& model, const ErrorState& errors,
+                                               const CutPoint& cut, const SurfacePoint& solved) {
   TPCAL_RETURN_IF_ERROR(CheckCut(cut));
   Workspace ws;
   Eigen::Vector3d S_u, S_v;
@@ -291,11 +290,30 @@ Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
     return Status(StatusCode::kDegenerate,
                   "cut point: the sweep directions and the normal do not span space");
   }
+  return Eigen::RowVector3d(-J.inverse().row(2));
+}
+
+Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
+                                                   const ErrorState& errors,
+                                                   const ActiveSet& active, const CutPoint& cut,
+                                                   const SurfacePoint& solved) {
+  auto r = DeviationRow(model, errors, cut, solved);
+  if (!r.ok()) return r.status();
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_point;
   ToolPointJacobian(model, errors, active, AxesAt(cut, solved.u, solved.v),
                     ContactAt(cut, solved.u, solved.v), &J_point);
-  const Eigen::RowVector3d r = -J.inverse().row(2);
-  return Eigen::RowVectorXd(r * J_point);
+  return Eigen::RowVectorXd(*r * J_point);
+}
+
+Result<Eigen::RowVectorXd> SurfaceDeviationSlotJacobian(const MachineModel& model, const ErrorState& errors,
+                                                       std::span<const ErrorSlot> slots, const CutPoint& cut,
+                                                       const SurfacePoint& solved) {
+  auto r = DeviationRow(model, errors, cut, solved);
+  if (!r.ok()) return r.status();
+  Eigen::Matrix<double, 3, Eigen::Dynamic> J_point;
+  ToolPointSlotJacobian(model, errors, AxesAt(cut, solved.u, solved.v), ContactAt(cut, solved.u, solved.v), slots,
+                        &J_point);
+  return Eigen::RowVectorXd(*r * J_point);
 }
 
 }  // namespace tpcal::kinematics

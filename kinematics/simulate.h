@@ -15,12 +15,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "core/status.h"
 #include "kinematics/axis_state.h"
 #include "kinematics/error_state.h"
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/jacobians.h"
 #include "kinematics/machine_model.h"
 
 namespace tpcal::kinematics {
@@ -85,5 +87,11 @@ Result<Eigen::RowVectorXd> SurfaceDeviationJacobian(const MachineModel& model,
                                                    const ErrorState& errors,
                                                    const ActiveSet& active, const CutPoint& cut,
                                                    const SurfacePoint& solved);
+
+// d s / d slot (1 x slots.size(), mm per mm or rad) at `solved`, as SurfaceDeviationJacobian for
+// error slots (jacobians.h) instead of coefficients. Errors: those of SurfaceDeviationJacobian.
+Result<Eigen::RowVectorXd> SurfaceDeviationSlotJacobian(const MachineModel& model, const ErrorState& errors,
+                                                       std::span<const ErrorSlot> slots, const CutPoint& cut,
+                                                       const SurfacePoint& solved);
 
 }  // namespace tpcal::kinematics

@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 
+#include "core/parallel.h"
 #include "core/units.h"
 #include "gdt/inspection.h"
 #include "kinematics/identification.h"
@@ -19,7 +20,10 @@ namespace {
 // Numerical rank: the base model absorbs every direction it can fit, however weakly (identification
 // reports directions below 1e-3 of the strongest as not identifiable, kinematics/identification.h).
 constexpr double kBaseRankTolerance = 1e-7;
-constexpr double kMinLeverage = 1e-9;        // 1 - h below this: the point fits itself (PRESS huge)
+constexpr double kMinLeverage = 1e-9;
+// From this many points the candidates are evaluated on several threads (below, threads cost more
+// than they save: a candidate of the 352-point sample takes ~0.3 ms).
+constexpr Eigen::Index kParallelPoints = 20000;        // 1 - h below this: the point fits itself (PRESS huge)
 
 // Orthonormal basis of the column space of J (columns scaled to unit norm first).
 struct Basis {
@@ -245,13 +249,24 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   // second-order terms to matter: |angle| > 1000 urad or |length| > 1000 um (below that they stay
   // under lever * angle^2 = 500 mm * 1e-6 = 5e-4 um, far below any CMM noise).
   int passes = 1;
+  // One slot linearisation per pass serves the base model and (the last) every machine-error
+  // candidate: the union of the slots both write.
+  auto candidate_slots = CandidateSlots(piece, machine, errors, base_names, reference_mode);
+  if (!candidate_slots.ok()) return candidate_slots.status();
+  const std::vector<int> base_coefficients = reference_mode ? std::vector<int>{} : base_active.coefficients;
+  std::optional<SlotDesign> design;
   for (int pass = 0; pass < passes; ++pass) {
-    auto lin = LineariseBySlots(machine, errors, reference_mode ? std::vector<int>{} : base_active.coefficients, obs);
+    std::vector<Slot> slots = SlotsOf(errors, base_coefficients);
+    AddSlots(*candidate_slots, &slots);
+    auto lin = LineariseSlots(machine, errors, slots, obs);
     if (!lin.ok()) return lin.status();
+    auto J_base = CoefficientColumns(*lin, errors, base_coefficients, obs);
+    if (!J_base.ok()) return J_base.status();
     X0.resize(n, q_fit + 6);
-    if (q_fit > 0) X0.leftCols(q_fit) = lin->J_dev_params;
-    X0.rightCols(6) = lin->J_dev_alignment;
-    y = lin->measured_dev_um - lin->predicted_dev_um;
+    if (q_fit > 0) X0.leftCols(q_fit) = *J_base;
+    X0.rightCols(6) = lin->lin.J_dev_alignment;
+    y = lin->lin.measured_dev_um - lin->lin.predicted_dev_um;
+    design = std::move(*lin);
     if (point_reference) y -= *reference_dev_um;
     base = MakeBasis(X0, ColumnNorms(X0), kBaseRankTolerance, true);
     const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
@@ -319,10 +334,9 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   for (const auto& o : obs) out.point_feature.push_back(mo.feature_names[static_cast<std::size_t>(o.group)]);
 
   // ---- 2. Candidates.
-  auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode);
+  auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode, &*design);
   if (!catalogue.ok()) return catalogue.status();
   const double ln_n = std::log(static_cast<double>(n));
-  std::vector<Projected> bases;
   // Per candidate, for the pairwise ranking: feature-CV squared residual per feature and the
   // features held out (empty for the PRESS fallback), and the PRESS sum of squares.
   struct CvTrace {
@@ -330,9 +344,14 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     std::vector<bool> held_out;
     double press_ss = 0.0;
   };
-  std::vector<CvTrace> traces;
-  std::vector<CandidateResult> results;
-  for (const auto& cc : catalogue->candidates) {
+  const std::size_t n_candidates = catalogue->candidates.size();
+  std::vector<Projected> bases(n_candidates);
+  std::vector<CvTrace> traces(n_candidates);
+  std::vector<CandidateResult> results(n_candidates);
+  // Candidates are independent: evaluated on several threads for large point sets (each writes
+  // its own slot, so the results do not depend on the schedule).
+  ParallelForEach(n_candidates, n >= kParallelPoints, [&](std::size_t ci) {
+    const CandidateColumns& cc = catalogue->candidates[ci];
     CandidateResult cr;
     cr.family = cc.family;
     cr.name = cc.name;
@@ -390,7 +409,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
         cr.cv_rms_before_um = cr.press_rms_before_um;
         cr.cv_rms_after_um = cr.press_rms_after_um;
       }
-      traces.push_back(std::move(trace));
+      traces[ci] = std::move(trace);
     }
     cr.cv_shrink_pct = cr.cv_rms_before_um > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cr.cv_rms_before_um) : 0.0;
     if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
@@ -420,9 +439,9 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
         cr.base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k)});
       }
     }
-    bases.push_back(std::move(b));
-    results.push_back(std::move(cr));
-  }
+    bases[ci] = std::move(b);
+    results[ci] = std::move(cr);
+  });
   const double alpha_each = options.alpha / std::max<std::size_t>(1, results.size());
   for (auto& cr : results)
     cr.significant = cr.observable && cr.p_value < alpha_each && cr.cv_rms_after_um < cr.cv_rms_before_um;

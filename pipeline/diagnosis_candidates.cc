@@ -146,56 +146,49 @@ void DropZeroColumns(CandidateColumns* c) {
 
 }  // namespace
 
-Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
-                                                  const kinematics::ErrorState& errors,
-                                                  const std::vector<int>& coefficients,
-                                                  std::span<const kinematics::Observation> obs) {
-  // 1. The slots the coefficients write.
-  std::vector<std::pair<Axis, kinematics::Component>> slots;
-  auto slot_index = [&](Axis a, kinematics::Component c) {
-    for (std::size_t k = 0; k < slots.size(); ++k)
-      if (slots[k].first == a && slots[k].second == c) return static_cast<int>(k);
-    slots.emplace_back(a, c);
-    return static_cast<int>(slots.size()) - 1;
-  };
+std::vector<Slot> SlotsOf(const kinematics::ErrorState& errors, const std::vector<int>& coefficients) {
+  std::vector<Slot> slots;
   for (int c : coefficients) {
     const auto& term = errors.terms()[static_cast<std::size_t>(errors.coefficient_info(c).term)];
-    for (const auto& e : term.effects) slot_index(e.axis, e.component);
+    for (const auto& e : term.effects)
+      if (std::find(slots.begin(), slots.end(), Slot{e.axis, e.component}) == slots.end())
+        slots.push_back(Slot{e.axis, e.component});
   }
-  if (slots.empty()) slot_index(Axis::kX, kinematics::Component::kTx);  // the design still needs a call
-  // 2. One probe term per slot: a power-0 polynomial (value 1, no condition) at zero. Terms of
-  // `errors` whose coefficients are all zero (the candidate terms) are left out of the probe:
-  // they add exactly 0 to every link error, and would only be evaluated at every chain call.
-  kinematics::ErrorState probe(machine);
+  return slots;
+}
+
+void AddSlots(const std::vector<Slot>& more, std::vector<Slot>* slots) {
+  for (const Slot& s : more)
+    if (std::find(slots->begin(), slots->end(), s) == slots->end()) slots->push_back(s);
+}
+
+Result<SlotDesign> LineariseSlots(const kinematics::MachineModel& machine, const kinematics::ErrorState& errors,
+                                  const std::vector<Slot>& slots, std::span<const kinematics::Observation> obs) {
+  SlotDesign out;
+  out.slots = slots;
+  // The state without its zero-valued terms (the candidate terms): they add exactly 0 to every
+  // link error, and would only be evaluated at every chain call.
+  kinematics::ErrorState nonzero(machine);
   for (const auto& t : errors.terms()) {
     if (std::all_of(t.coefficients.begin(), t.coefficients.end(), [](double c) { return c == 0.0; })) continue;
-    if (Status st = probe.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot probe");
+    if (Status st = nonzero.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot design");
   }
-  std::vector<std::string> probe_names;
-  for (std::size_t k = 0; k < slots.size(); ++k) {
-    kinematics::ErrorTerm t;
-    t.kind = kinematics::TermKind::kPolynomial;
-    t.label = "diagnosis_slot_" + std::to_string(k);
-    t.quantity = kinematics::IsAngular(slots[k].second) ? kinematics::Quantity::kAngle : kinematics::Quantity::kLength;
-    t.effects = {kinematics::SlotEffect{slots[k].first, slots[k].second, 1.0}};
-    t.argument = Axis::kX;
-    t.powers = {0};
-    t.coefficients = {0.0};
-    if (Status st = probe.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot probe");
-    probe_names.push_back(probe.coefficient_info(probe.num_coefficients() - 1).name);
-  }
-  auto active = kinematics::SelectCoefficients(probe, probe_names);
-  if (!active.ok()) return active.status();
-  auto lin = kinematics::LineariseObservations(machine, probe, *active, obs);
+  auto lin = kinematics::LineariseSlotObservations(machine, nonzero, out.slots, obs);
   if (!lin.ok()) return lin.status();
-  // ds(um)/d slot (internal units).
-  Eigen::MatrixXd dslot = lin->J_dev_params;
-  for (std::size_t k = 0; k < slots.size(); ++k)
-    dslot.col(static_cast<Eigen::Index>(k)) *=
-        probe.coefficient_info(active->coefficients[k]).display_per_internal;
-  // 3. Chain rule per coefficient (the basis of each term evaluated once per point for all its
-  // coefficients).
+  out.dslot_um = std::move(lin->J_dev_params);
+  lin->J_dev_params.resize(static_cast<Eigen::Index>(obs.size()), 0);
+  out.lin = std::move(*lin);
+  return out;
+}
+
+Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinematics::ErrorState& errors,
+                                           const std::vector<int>& coefficients,
+                                           std::span<const kinematics::Observation> obs) {
   const auto n = static_cast<Eigen::Index>(obs.size());
+  if (design.dslot_um.rows() != n)
+    return Status(StatusCode::kInvalidArgument, "diagnosis: slot design of " + std::to_string(design.dslot_um.rows()) +
+                                                    " observations for " + std::to_string(n));
+  // Chain rule per coefficient (the basis of each term evaluated once per point for all its coefficients).
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(coefficients.size()));
   std::map<int, std::vector<std::size_t>> columns_of_term;
   for (std::size_t j = 0; j < coefficients.size(); ++j)
@@ -204,7 +197,12 @@ Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel
   for (const auto& [term_index, columns] : columns_of_term) {
     const auto& term = errors.terms()[static_cast<std::size_t>(term_index)];
     std::vector<std::pair<int, double>> sg;
-    for (const auto& e : term.effects) sg.emplace_back(slot_index(e.axis, e.component), e.gain);
+    for (const auto& e : term.effects) {
+      const auto it = std::find(design.slots.begin(), design.slots.end(), Slot{e.axis, e.component});
+      if (it == design.slots.end())
+        return Status(StatusCode::kInvalidArgument, "diagnosis: term " + term.label + " writes a slot the design lacks");
+      sg.emplace_back(static_cast<int>(it - design.slots.begin()), e.gain);
+    }
     for (Eigen::Index i = 0; i < n; ++i) {
       kinematics::EvaluateTermBasis(term, obs[static_cast<std::size_t>(i)].cut.axes, &w);
       for (std::size_t j : columns) {
@@ -212,12 +210,24 @@ Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel
         const double b = w[static_cast<std::size_t>(info.index)];
         if (b == 0.0) continue;
         double v = 0;
-        for (const auto& [k, g] : sg) v += g * dslot(i, k);
+        for (const auto& [k, g] : sg) v += g * design.dslot_um(i, k);
         J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
       }
     }
   }
-  lin->J_dev_params = std::move(J);
+  return J;
+}
+
+Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
+                                                  const kinematics::ErrorState& errors,
+                                                  const std::vector<int>& coefficients,
+                                                  std::span<const kinematics::Observation> obs) {
+  auto design = LineariseSlots(machine, errors, SlotsOf(errors, coefficients), obs);
+  if (!design.ok()) return design.status();
+  auto J = CoefficientColumns(*design, errors, coefficients, obs);
+  if (!J.ok()) return J.status();
+  kinematics::LinearDesign lin = std::move(design->lin);
+  lin.J_dev_params = std::move(*J);
   return lin;
 }
 
@@ -227,48 +237,95 @@ Eigen::Vector3d MachineNormal(const kinematics::MachineModel& machine, const kin
   return kinematics::MachineFromPart(machine, zero, o.cut.axes, &ws).linear() * o.cut.nominal_normal;
 }
 
+namespace {
+
+// The machine-error candidates as zero-valued terms added to `errors` (`combined`), the
+// coefficient names of each effect item, and the coefficients to linearise (`active`, named
+// `lin_names`: every candidate coefficient, plus the base set in reference mode).
+struct MachineCandidates {
+  std::vector<MachineSpec> specs;
+  kinematics::ErrorState combined;
+  std::map<std::string, std::vector<std::string>> item_names;  // item -> coefficient names
+  std::vector<std::string> lin_names;
+  kinematics::ActiveSet active;
+};
+
+Result<MachineCandidates> CombineMachineCandidates(const testpieces::TestPiece& piece,
+                                                   const kinematics::MachineModel& machine,
+                                                   const kinematics::ErrorState& errors,
+                                                   const std::vector<std::string>& base_names, bool reference_mode,
+                                                   std::vector<std::pair<std::string, std::string>>* not_applicable) {
+  MachineCandidates mc{MachineSpecs(machine, piece.duration_s(), not_applicable), errors, {}, {}, {}};
+  for (const auto& spec : mc.specs) {
+    for (const auto& item : spec.items) {
+      if (mc.item_names.count(item)) continue;
+      auto parsed = kinematics::ParseErrorState("effects: [" + item + "]", "<diagnosis candidate>", machine);
+      if (!parsed.ok()) { mc.item_names[item] = {}; continue; }  // not on this machine
+      std::vector<std::string> names;
+      for (int c = 0; c < parsed->num_coefficients(); ++c) names.push_back(parsed->coefficient_info(c).name);
+      bool ok = true;
+      for (const auto& t : parsed->terms())
+        if (!mc.combined.AddTerm(machine, t).ok()) ok = false;
+      if (!ok) names.clear();
+      mc.item_names[item] = names;
+      mc.lin_names.insert(mc.lin_names.end(), names.begin(), names.end());
+    }
+  }
+  if (reference_mode) mc.lin_names.insert(mc.lin_names.end(), base_names.begin(), base_names.end());
+  if (!mc.lin_names.empty()) {
+    auto active = kinematics::SelectCoefficients(mc.combined, mc.lin_names);
+    if (!active.ok()) return active.status();
+    mc.active = *active;
+  }
+  return mc;
+}
+
+}  // namespace
+
+Result<std::vector<Slot>> CandidateSlots(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                         const kinematics::ErrorState& errors,
+                                         const std::vector<std::string>& base_names, bool reference_mode) {
+  std::vector<std::pair<std::string, std::string>> not_applicable;
+  auto mc = CombineMachineCandidates(piece, machine, errors, base_names, reference_mode, &not_applicable);
+  if (!mc.ok()) return mc.status();
+  return SlotsOf(mc->combined, mc->active.coefficients);
+}
+
 Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const kinematics::ErrorState& errors,
                                            const MeasuredObservations& mo,
-                                           const std::vector<std::string>& base_names, bool reference_mode) {
+                                           const std::vector<std::string>& base_names, bool reference_mode,
+                                           const SlotDesign* design) {
   CandidateCatalogue out;
   const auto& obs = mo.observations;
   const auto n = static_cast<Eigen::Index>(obs.size());
 
   // ---- machine-error families: one linearisation with every candidate coefficient active.
-  const std::vector<MachineSpec> specs = MachineSpecs(machine, piece.duration_s(), &out.not_applicable);
-  kinematics::ErrorState combined = errors;
-  std::map<std::string, std::vector<std::string>> item_names;  // item -> coefficient names
-  std::vector<std::string> all_names;
-  for (const auto& spec : specs) {
-    for (const auto& item : spec.items) {
-      if (item_names.count(item)) continue;
-      auto parsed = kinematics::ParseErrorState("effects: [" + item + "]", "<diagnosis candidate>", machine);
-      if (!parsed.ok()) { item_names[item] = {}; continue; }  // not on this machine
-      std::vector<std::string> names;
-      for (int c = 0; c < parsed->num_coefficients(); ++c) names.push_back(parsed->coefficient_info(c).name);
-      bool ok = true;
-      for (const auto& t : parsed->terms())
-        if (!combined.AddTerm(machine, t).ok()) ok = false;
-      if (!ok) names.clear();
-      item_names[item] = names;
-      all_names.insert(all_names.end(), names.begin(), names.end());
-    }
-  }
-  std::vector<std::string> lin_names = all_names;
-  if (reference_mode) lin_names.insert(lin_names.end(), base_names.begin(), base_names.end());
+  auto mc = CombineMachineCandidates(piece, machine, errors, base_names, reference_mode, &out.not_applicable);
+  if (!mc.ok()) return mc.status();
+  const auto& specs = mc->specs;
+  const auto& combined = mc->combined;
+  const auto& lin_names = mc->lin_names;
+  auto& item_names = mc->item_names;
   if (!lin_names.empty()) {
-    auto active = kinematics::SelectCoefficients(combined, lin_names);
-    if (!active.ok()) return active.status();
-    auto lin = LineariseBySlots(machine, combined, active->coefficients, obs);
-    if (!lin.ok()) return lin.status();
+    const kinematics::ActiveSet* active = &mc->active;
+    Eigen::MatrixXd J_lin;
+    if (design) {
+      auto J = CoefficientColumns(*design, combined, active->coefficients, obs);
+      if (!J.ok()) return J.status();
+      J_lin = std::move(*J);
+    } else {
+      auto lin = LineariseBySlots(machine, combined, active->coefficients, obs);
+      if (!lin.ok()) return lin.status();
+      J_lin = std::move(lin->J_dev_params);
+    }
     std::map<std::string, int> col;
     for (std::size_t k = 0; k < lin_names.size(); ++k) col[lin_names[k]] = static_cast<int>(k);
     auto make = [&](const std::string& family, const std::string& name, const std::vector<std::string>& names) {
       CandidateColumns c{family, name, Eigen::MatrixXd(n, static_cast<Eigen::Index>(names.size())), {}, {}};
       for (std::size_t k = 0; k < names.size(); ++k) {
         const int j = col.at(names[k]);
-        c.J_dev_effect.col(static_cast<Eigen::Index>(k)) = lin->J_dev_params.col(j);
+        c.J_dev_effect.col(static_cast<Eigen::Index>(k)) = J_lin.col(j);
         c.parameter_names.push_back(names[k]);
         c.units.push_back(combined.coefficient_info(active->coefficients[static_cast<std::size_t>(j)]).unit);
       }
