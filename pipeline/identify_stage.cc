@@ -1,7 +1,10 @@
 #include "pipeline/identify_stage.h"
 
+#include <algorithm>
 #include <map>
+#include <mutex>
 
+#include "core/parallel.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/error_state.h"
 
@@ -10,29 +13,55 @@ namespace tpcal::pipeline {
 Result<MeasuredObservations> ObservationsFromPoints(const testpieces::TestPiece& piece, const PointSet& measured,
                                                     const Rigid3& datum_from_cmm) {
   MeasuredObservations out;
+  const std::size_t n = measured.size();
+  // Labels and groups in file order (groups numbered by first appearance).
   std::map<int, int> group_of_label;  // PointSet feature index -> group
-  for (std::size_t i = 0; i < measured.size(); ++i) {
+  std::vector<int> group(n);
+  for (std::size_t i = 0; i < n; ++i) {
     const int label = measured.feature.empty() ? PointSet::kUnlabelled : measured.feature[i];
     if (label == PointSet::kUnlabelled)
       return Status(StatusCode::kInvalidArgument,
                     "point without a feature label: identification needs labelled points (segment raw scans first)",
                     measured.source, measured.LineOf(i));
-    const std::string& name = measured.feature_names[static_cast<std::size_t>(label)];
-    if (!piece.Feature(name))
-      return Status(StatusCode::kInvalidArgument,
-                    "feature '" + name + "' is not a feature of the " + piece.name, measured.source,
-                    measured.LineOf(i));
     auto [it, inserted] = group_of_label.try_emplace(label, static_cast<int>(out.feature_names.size()));
-    if (inserted) out.feature_names.push_back(name);
-    const Eigen::Vector3d p_datum = datum_from_cmm * measured.xyz_mm[i];
-    auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
-    if (!cut.ok()) return cut.status().WithLocation(measured.source, measured.LineOf(i));
-    kinematics::Observation o;
-    o.cut = *cut;
-    o.measured_mm = piece.part_from_datum * p_datum;
-    o.group = it->second;
-    out.observations.push_back(o);
-    out.point_index.push_back(i);
+    if (inserted) {
+      const std::string& name = measured.feature_names[static_cast<std::size_t>(label)];
+      if (!piece.Feature(name))
+        return Status(StatusCode::kInvalidArgument, "feature '" + name + "' is not a feature of the " + piece.name,
+                      measured.source, measured.LineOf(i));
+      out.feature_names.push_back(name);
+    }
+    group[i] = it->second;
+  }
+  // The cut of every point, on all cores (each point its own slot); the first failure in file
+  // order is reported.
+  out.observations.resize(n);
+  out.point_index.resize(n);
+  std::vector<std::size_t> first_failure;
+  std::vector<Status> failure;
+  std::mutex failure_mutex;
+  ParallelChunks(n, 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::string& name = out.feature_names[static_cast<std::size_t>(group[i])];
+      const Eigen::Vector3d p_datum = datum_from_cmm * measured.xyz_mm[i];
+      auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
+      if (!cut.ok()) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        first_failure.push_back(i);
+        failure.push_back(cut.status().WithLocation(measured.source, measured.LineOf(i)));
+        return false;
+      }
+      kinematics::Observation& o = out.observations[i];
+      o.cut = *cut;
+      o.measured_mm = piece.part_from_datum * p_datum;
+      o.group = group[i];
+      out.point_index[i] = i;
+    }
+    return true;
+  });
+  if (!failure.empty()) {
+    const auto k = static_cast<std::size_t>(std::min_element(first_failure.begin(), first_failure.end()) - first_failure.begin());
+    return failure[k];
   }
   return out;
 }
