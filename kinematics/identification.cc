@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "core/parallel.h"
+#include "core/tall_svd.h"
 #include "core/units.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/forward_kinematics.h"
@@ -63,25 +64,6 @@ Eigen::MatrixXd NuisanceBasis(const Eigen::MatrixXd& N) {
   if (N.cols() == 0) return N;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(N);
   return qr.householderQ() * Eigen::MatrixXd::Identity(N.rows(), N.cols());
-}
-
-struct Svd {
-  Eigen::VectorXd sigma;
-  Eigen::MatrixXd V;
-};
-
-// SVD of a tall matrix through its R factor (O(n q^2)).
-Svd TallSvd(const Eigen::MatrixXd& A) {
-  const Eigen::Index q = A.cols();
-  Eigen::MatrixXd R;
-  if (A.rows() > 2 * q) {
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-    R = qr.matrixQR().topRows(q).triangularView<Eigen::Upper>();
-  } else {
-    R = A;
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
-  return {svd.singularValues(), svd.matrixV()};
 }
 
 // The last evaluation with Jacobians: its parameters, residuals and Jacobian blocks (Ceres
@@ -365,7 +347,7 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     const Eigen::MatrixXd Q = NuisanceBasis(lin0->J_dev_alignment);
     A -= Q * (Q.transpose() * A);
   }
-  const Svd svd = TallSvd(A);
+  const TallSvdResult svd = TallSvd(A, /*compute_u=*/false);
   const double smax = svd.sigma.size() ? svd.sigma(0) : 0.0;
   int rank = 0;
   for (Eigen::Index k = 0; k < svd.sigma.size(); ++k)

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/parallel.h"
+#include "core/tall_svd.h"
 #include "core/units.h"
 #include "gdt/inspection.h"
 #include "kinematics/identification.h"
@@ -43,13 +44,13 @@ Basis MakeBasis(const Eigen::MatrixXd& J, const Eigen::VectorXd& norms, double r
     b.U.resize(J.rows(), 0);
     return b;
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeThinU | Eigen::ComputeFullV);
-  b.sigma = svd.singularValues();
-  b.V = svd.matrixV();
+  TallSvdResult svd = TallSvd(Js, /*compute_u=*/true);
+  b.sigma = std::move(svd.sigma);
+  b.V = std::move(svd.V);
   const double ref = relative_to_largest ? (b.sigma.size() ? b.sigma(0) : 0.0) : 1.0;
   for (Eigen::Index k = 0; k < b.sigma.size(); ++k)
     if (b.sigma(k) > rel_tol * ref && b.sigma(k) > 0) ++b.rank;
-  b.U = svd.matrixU().leftCols(b.rank);
+  b.U = svd.U.leftCols(b.rank);
   return b;
 }
 
@@ -134,22 +135,22 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   if (bc.rank == 0) return out;
   Eigen::MatrixXd P = bc.U;
   if (Q.cols() > 0) P -= Q * (Q.transpose() * bc.U);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& s = svd.singularValues();
+  const TallSvdResult svd = TallSvd(P, /*compute_u=*/true);
+  const Eigen::VectorXd& s = svd.sigma;
   int k = 0;
   while (k < s.size() && s(k) > tol) ++k;
   out.rank = k;
   if (k == 0) return out;
-  out.U = svd.matrixU().leftCols(k);
+  out.U = svd.U.leftCols(k);
   // x_scaled = V_c S_c^-1 (V_p S_p^-1) z; x = x_scaled / norms.
   Eigen::MatrixXd Vc = bc.V.leftCols(bc.rank);
   for (int j = 0; j < bc.rank; ++j) Vc.col(j) /= bc.sigma(j);
-  Eigen::MatrixXd Vp = svd.matrixV().leftCols(k);
+  Eigen::MatrixXd Vp = svd.V.leftCols(k);
   for (int j = 0; j < k; ++j) Vp.col(j) /= s(j);
   out.B = Vc * Vp;
   for (Eigen::Index j = 0; j < p; ++j) out.B.row(j) /= (norms(j) > 0 ? norms(j) : 1.0);
   // Identifiable coefficients: e_j in the row space of the determined functionals F = V_p^T S_c V_c^T.
-  Eigen::MatrixXd Ft = bc.V.leftCols(bc.rank) * bc.sigma.head(bc.rank).asDiagonal() * svd.matrixV().leftCols(k);
+  Eigen::MatrixXd Ft = bc.V.leftCols(bc.rank) * bc.sigma.head(bc.rank).asDiagonal() * svd.V.leftCols(k);
   Eigen::JacobiSVD<Eigen::MatrixXd> fsvd(Ft, Eigen::ComputeThinU);
   int fr = 0;
   for (Eigen::Index j = 0; j < fsvd.singularValues().size(); ++j)
