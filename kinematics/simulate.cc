@@ -3,8 +3,10 @@
 #include <ceres/jet.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -188,6 +190,40 @@ bool SweepMatrix(const Eigen::Vector3d& S_u, const Eigen::Vector3d& S_v, const E
   return det > 1e-9;
 }
 
+// Why the iteration stopped short: the last step, the rounding level of the chain at the last
+// iterate (2^-52 x the largest coordinate or link error translation, mm) and the largest link
+// errors. When a tenth of the tolerance is below that rounding level the steps are rounding
+// noise: the errors are far outside the small-error range (km: not a machine), the iteration is
+// not slow.
+std::string NotConvergedMessage(const MachineModel& model, const ErrorState& errors, const CutPoint& cut,
+                                const SimulateOptions& options, double u, double v, double step_mm,
+                                Workspace* ws) {
+  EvaluateLinkErrors(errors, AxesAt(cut, u, v), &ws->link_errors);
+  double max_mm = 0.0, max_rad = 0.0;
+  for (int l = 0; l < model.num_links(); ++l) {
+    for (int c = 0; c < kNumComponents; ++c) {
+      const double e = std::abs(ws->link_errors[l][c]);
+      if (IsAngular(static_cast<Component>(c))) {
+        max_rad = std::max(max_rad, e);
+      } else {
+        max_mm = std::max(max_mm, e);
+      }
+    }
+  }
+  const Eigen::Vector3d S = SurfaceAt(model, errors, cut, u, v, ws);
+  const double scale_mm = std::max({S.norm(), cut.nominal_point_mm.norm(), max_mm});
+  const double rounding_mm = std::numeric_limits<double>::epsilon() * scale_mm;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "surface point did not converge in %d iterations (last step %.3g mm, tolerance %.3g mm, rounding "
+                "level of the chain %.3g mm; largest link error %.3g mm, %.3g rad: %s)",
+                options.max_iterations, step_mm, options.tolerance_mm, rounding_mm, max_mm, max_rad,
+                10.0 * rounding_mm > options.tolerance_mm
+                    ? "the tolerance is below the rounding of coordinates this large: errors far outside the small-error range"
+                    : "errors too large for the sweep, or a sweep tangent to the probing line");
+  return buf;
+}
+
 }  // namespace
 
 Status SimulateOptions::Validate() const {
@@ -212,21 +248,29 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
     return Status(StatusCode::kDegenerate,
                   "cut point: the sweep directions and the normal do not span space");
   }
-  // Newton iteration with the tangents of each iterate (the error terms' own slopes along the
-  // sweep are left out of the tangents: the rate is then ~1e-5 per step instead of quadratic,
-  // the residual being exact). Converged when the last step, or the next one predicted from
-  // the observed contraction (step_k^2 / step_{k-1}), is below the tolerance.
+  // Newton iteration with the tangents of each iterate. First without the error terms' own
+  // slopes along the sweep (SurfaceFast): the rate is then |error slope| / |net sweep speed|,
+  // ~1e-5 per step for um-size errors, the residual being exact. In simultaneous five-axis
+  // motion the net tangent can be a small difference of large axis motions (cone flank: C table
+  // ~140 mm/rad at the point, X -93 mm/rad, net 34 mm/rad), so a rotary error whose slope is
+  // small against one axis's motion (E_CC of 40 mrad at order 3: 0.1 rad/rad) is not small
+  // against the net speed (rate 0.3 per step, 20 iterations not enough). When a step contracts
+  // by less than kSlowContraction, the tangents include the error slopes from then on
+  // (SurfaceAndTangents: Newton proper). Converged when the last step, or the next one
+  // predicted from the observed contraction (step_k^2 / step_{k-1}), is below the tolerance.
+  constexpr double kSlowContraction = 1e-2;
   SurfacePoint out;
   double last_step_mm = std::numeric_limits<double>::infinity();
+  double step_mm = std::numeric_limits<double>::infinity();
+  bool error_slopes = false;
   for (int it = 1; it <= options.max_iterations; ++it) {
     const Eigen::Vector3d F = S - p0 - s * n0;
     const Eigen::Vector3d step = -(J.inverse() * F);
     u += step(0);
     v += step(1);
     s += step(2);
-    const double step_mm = std::abs(step(0)) * S_u.norm() + std::abs(step(1)) * S_v.norm() +
-                           std::abs(step(2));
-    const bool contracting = std::isfinite(last_step_mm) && step_mm < 1e-2 * last_step_mm;
+    step_mm = std::abs(step(0)) * S_u.norm() + std::abs(step(1)) * S_v.norm() + std::abs(step(2));
+    const bool contracting = std::isfinite(last_step_mm) && step_mm < kSlowContraction * last_step_mm;
     if (step_mm <= options.tolerance_mm ||
         (contracting && step_mm * (step_mm / last_step_mm) <= options.tolerance_mm)) {
       out.deviation_mm = s;
@@ -236,16 +280,20 @@ Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const Error
       out.iterations = it;
       return out;
     }
+    if (std::isfinite(last_step_mm) && !contracting) error_slopes = true;
     last_step_mm = step_mm;
-    S = SurfaceFast(model, errors, sweep, cut, u, v, ws, &S_u, &S_v);
+    if (error_slopes) {  // the residual stays SurfaceFast's, the tangents gain the error slopes
+      S = SurfaceFast(model, errors, sweep, cut, u, v, ws, nullptr, nullptr);
+      SurfaceAndTangents(model, errors, cut, u, v, true, ws, &S_u, &S_v);
+    } else {
+      S = SurfaceFast(model, errors, sweep, cut, u, v, ws, &S_u, &S_v);
+    }
     if (!SweepMatrix(S_u, S_v, n0, &J)) {
       return Status(StatusCode::kDegenerate,
                     "cut point: the sweep became tangent to the probing line during the solve");
     }
   }
-  return Status(StatusCode::kNotConverged,
-                "surface point did not converge in " + std::to_string(options.max_iterations) +
-                    " iterations (errors too large for the sweep, or a sweep tangent to the probing line)");
+  return Status(StatusCode::kNotConverged, NotConvergedMessage(model, errors, cut, options, u, v, step_mm, ws));
 }
 
 SurfacePoint SimulateSurfacePointFirstOrder(const MachineModel& model, const ErrorState& errors,

@@ -46,7 +46,11 @@ struct CutPoint {
 };
 
 struct SimulateOptions {
-  int max_iterations = 20;  // typically 2 (1 with zero errors); more for nearly parallel sweeps
+  // Typically 2 (1 with zero errors); more for nearly parallel sweeps. The tangents leave out
+  // the error terms' own slopes along the sweep until a step contracts by less than 1e-2; from
+  // then on they include them (Newton proper, ~5 iterations where the slopes rival the net sweep
+  // speed: large rotary errors on a simultaneous five-axis sweep).
+  int max_iterations = 20;
   // Converged when the Newton step (u, v, s mapped to mm), or the next step predicted from the
   // observed contraction (step_k^2 / step_k-1), is below this.
   double tolerance_mm = 1e-10;
@@ -61,7 +65,9 @@ struct SurfacePoint {
 };
 
 // Exact solve (see the file comment). Fails with kDegenerate if the sweep and the normal do not
-// span space (e.g. a spin about the point itself), kNotConverged after max_iterations, and
+// span space (e.g. a spin about the point itself), kNotConverged after max_iterations (the
+// message gives the last step, the rounding level of the chain and the largest link errors, mm
+// and rad: link errors of ~1e6 mm and more put the rounding above tolerance_mm), and
 // kInvalidArgument for a non-unit normal.
 Result<SurfacePoint> SimulateSurfacePoint(const MachineModel& model, const ErrorState& errors,
                                           const CutPoint& cut, Workspace* ws,

@@ -3,6 +3,7 @@
 // deviation Jacobian, and clear failures.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <random>
 
@@ -212,6 +213,94 @@ TEST(Simulate, DeviationJacobianMatchesFiniteDifferences) {
       }
     }
   }
+}
+
+// Reference solve of S(u, v) = p0 + s n0, independent of the solver's chain shortcuts: Newton
+// on ToolPointInPart (the plain chain, every error term evaluated at the iterate) with a
+// central-difference Jacobian in (u, v), iterated until the step is below 1e-13 mm.
+struct ReferenceSolution {
+  double u = 0, v = 0, s = 0, residual_mm = 1e300;
+};
+ReferenceSolution ReferenceSolve(const MachineModel& m, const ErrorState& e, const CutPoint& c) {
+  Workspace ws;
+  auto S = [&](double u, double v) {
+    return ToolPointInPart(m, e, Advance(Advance(c.axes, c.du.axes, u), c.dv.axes, v),
+                           c.contact_in_tool_mm + u * c.du.contact_in_tool_mm + v * c.dv.contact_in_tool_mm, &ws);
+  };
+  ReferenceSolution r;
+  r.u = r.v = r.s = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double h = 1e-6;
+    Eigen::Matrix3d J;
+    J.col(0) = (S(r.u + h, r.v) - S(r.u - h, r.v)) / (2 * h);
+    J.col(1) = (S(r.u, r.v + h) - S(r.u, r.v - h)) / (2 * h);
+    J.col(2) = -c.nominal_normal;
+    const Eigen::Vector3d F = S(r.u, r.v) - c.nominal_point_mm - r.s * c.nominal_normal;
+    const Eigen::Vector3d step = -J.partialPivLu().solve(F);
+    r.u += step(0), r.v += step(1), r.s += step(2);
+    if (step.norm() < 1e-13) break;
+  }
+  r.residual_mm = (S(r.u, r.v) - c.nominal_point_mm - r.s * c.nominal_normal).norm();
+  return r;
+}
+
+TEST(Simulate, ConvergesWhenTheErrorSlopeRivalsTheNetSweepSpeed) {
+  // Cone flank of the NAS 979 piece (validation seed 11, rotary_positioning at 20x, point 16 of
+  // CONE_2): ac_table at A = -5 deg, C = 90 deg, tool side touching the cone. Along the pass the
+  // C table moves the point ~140 mm/rad and X moves -93 mm/rad: the net sweep speed |S_u| is
+  // 34 mm/rad, so the slope of a large C positioning error (E_CC, harmonics 1 to 3 of up to
+  // 40 mrad: ~0.1 rad/rad) is ~0.3 of it. Without the error slopes in the tangents the solve
+  // contracted by 0.3 per step and stopped after 20 iterations (kNotConverged).
+  // Truth: ReferenceSolve (plain chain, finite-difference Newton to 1e-13 mm); tolerance 1e-9 mm
+  // on s and on the defining equation (the solver's own tolerance is 1e-10 mm on the step).
+  const MachineModel m = Machine(MachineType::kAcTable);
+  CutPoint c;
+  c.axes.y_mm = -48.380147906515909;
+  c.axes.z_mm = 17.547411415090018;
+  c.axes.a_rad = DegToRad(-5.0);
+  c.axes.c_rad = DegToRad(90.0);
+  c.axes.t_s = 37.749;
+  c.contact_in_tool_mm = Eigen::Vector3d(0.0, 8.0, 16.717383979523671);
+  c.du.axes = AxisDelta{-92.919130092288256, 0, 0, 0, 0, 2.9696155055325408};
+  c.du.contact_in_tool_mm = Eigen::Vector3d(15.93911516447022, 0, 0);
+  c.dv.contact_in_tool_mm = Eigen::Vector3d(0, 0, 1);  // along the tool axis
+  c.nominal_point_mm = NominalToolPointInPart(m, c.axes, c.contact_in_tool_mm);
+  auto S0 = [&](double a, double b) {
+    return NominalToolPointInPart(m, Advance(Advance(c.axes, c.du.axes, a), c.dv.axes, b),
+                                  c.contact_in_tool_mm + a * c.du.contact_in_tool_mm + b * c.dv.contact_in_tool_mm);
+  };
+  const double h = 1e-5;
+  const Eigen::Vector3d su = (S0(h, 0) - S0(-h, 0)) / (2 * h), sv = (S0(0, h) - S0(0, -h)) / (2 * h);
+  c.nominal_normal = su.cross(sv).normalized();
+  ASSERT_NEAR(su.norm(), 34.0, 1.0);  // the net sweep speed the comment describes
+
+  ErrorState e(m);
+  ErrorTerm f;
+  f.kind = TermKind::kFourier;
+  f.label = "E_CC";
+  f.quantity = Quantity::kAngle;
+  f.effects = {{Axis::kC, Component::kRz, 1.0}};
+  f.argument = Axis::kC;
+  f.orders = {1, 1, 2, 2, 3, 3};
+  f.is_sine = {false, true, false, true, false, true};
+  f.coefficients = {2.5383e-3, 16.3347e-3, 2.3133e-3, 17.8616e-3, -10.8547e-3, 39.5007e-3};  // rad
+  ASSERT_TRUE(e.AddTerm(m, f).ok());
+
+  const ReferenceSolution ref = ReferenceSolve(m, e, c);
+  ASSERT_LT(ref.residual_mm, 1e-10);
+  ASSERT_GT(std::abs(ref.s), 1e-3);  // a real deviation (tens of um), not a trivial zero
+
+  Workspace ws;
+  Result<SurfacePoint> r = SimulateSurfacePoint(m, e, c, &ws);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_NEAR(r->deviation_mm, ref.s, 1e-9);
+  EXPECT_NEAR(r->u, ref.u, 1e-9);
+  EXPECT_NEAR(r->v, ref.v, 1e-9);
+  const Eigen::Vector3d S = ToolPointInPart(m, e, Advance(Advance(c.axes, c.du.axes, r->u), c.dv.axes, r->v),
+                                            c.contact_in_tool_mm + r->u * c.du.contact_in_tool_mm +
+                                                r->v * c.dv.contact_in_tool_mm, &ws);
+  EXPECT_LT((S - r->point_mm).norm(), 1e-9);
+  EXPECT_LE(r->iterations, 10);  // Newton once the slow contraction is seen (was > 20)
 }
 
 TEST(Simulate, BadCutPointsFailClearly) {
