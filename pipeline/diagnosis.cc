@@ -54,9 +54,17 @@ Basis MakeBasis(const Eigen::MatrixXd& J, const Eigen::VectorXd& norms, double r
   return b;
 }
 
+// Column norms; a column below kRoundingColumn x the largest is rounding of an exactly zero
+// signature (e.g. E_Z0A on the flank-milled cone, 3e-15 um/um: Z slides the tool along its own
+// axis) and gets norm 0 (not fitted, not identifiable): scaled to unit norm it would be a random
+// direction, fitted with coefficients of 1e12 mm.
+constexpr double kRoundingColumn = 1e-10;
 Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
   Eigen::VectorXd n(J.cols());
   for (Eigen::Index j = 0; j < J.cols(); ++j) n(j) = J.col(j).norm();
+  const double largest = n.size() ? n.maxCoeff() : 0.0;
+  for (Eigen::Index j = 0; j < n.size(); ++j)
+    if (n(j) <= kRoundingColumn * largest) n(j) = 0.0;
   return n;
 }
 

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/json_util.h"
+
 namespace tpcal::pipeline {
 namespace {
 
@@ -20,7 +22,8 @@ json GroupsJson(const std::vector<GroupGap>& groups, const char* key) {
 json ParametersJson(const std::vector<EffectParameter>& ps) {
   json o = json::object();
   for (const auto& p : ps) {
-    json e = {{"value", p.value}, {"u", p.u}, {"unit", p.unit}};
+    // A parameter the data cannot separate gets no number (null), and says so.
+    json e = {{"value", OrNull(p.identifiable, p.value)}, {"u", OrNull(p.identifiable, p.u)}, {"unit", p.unit}};
     if (!p.identifiable) e["identifiable"] = false;
     o[p.name] = e;
   }
@@ -196,8 +199,8 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     const auto& best = r.candidates.front();
     o += "  parameters:\n";
     for (const auto& p : best.parameters)
-      o += fmt::format("    {:<28} {:>10.4g} +- {:<10.3g} {}{}\n", p.name, p.value, p.u, p.unit,
-                       p.identifiable ? "" : " (not identifiable alone)");
+      o += p.identifiable ? fmt::format("    {:<28} {:>10.4g} +- {:<10.3g} {}\n", p.name, p.value, p.u, p.unit)
+                          : fmt::format("    {:<28} {:>10} not identifiable alone\n", p.name, "-");
     if (best.cv_method != "leave-one-feature-out")
       o += fmt::format("  cross-validated by {} ({}); not held out with this effect: {}\n", best.cv_method,
                        best.cv_method_reason, fmt::join(best.cv_not_held_out, " "));

@@ -89,8 +89,13 @@ TEST(Diagnosis, WithheldThermalDriftIsNamedAndJsonFollowsTheContract) {
   for (const auto& c : j["candidates"]) {
     for (const char* k : {"family", "name", "rms_after_um", "shrink_pct", "cv_rms_before_um", "cv_rms_after_um", "parameters"})
       EXPECT_TRUE(c.contains(k)) << k;
-    for (const auto& [name, p] : c["parameters"].items())
+    for (const auto& [name, p] : c["parameters"].items()) {
       for (const char* k : {"value", "u", "unit"}) EXPECT_TRUE(p.contains(k)) << name << " " << k;
+      // A number only where the data separate the parameter; null (and "identifiable": false) otherwise.
+      const bool identifiable = !p.contains("identifiable") || p["identifiable"].get<bool>();
+      EXPECT_EQ(p["value"].is_number(), identifiable) << name;
+      EXPECT_EQ(p["u"].is_number(), identifiable) << name;
+    }
   }
   for (const char* k : {"family", "name", "shrink_pct", "indistinguishable_from"}) EXPECT_TRUE(j["verdict"].contains(k)) << k;
   // shrink_pct = 100 (1 - rms_after / rms_before), candidates best first.

@@ -200,8 +200,16 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
   if (!lin.ok()) return lin.status();
   Eigen::MatrixXd X0(n, base_active->size() + 6);
   X0 << lin->J_dev_params, lin->J_dev_alignment;
-  for (Eigen::Index j = 0; j < X0.cols(); ++j)
-    if (X0.col(j).norm() > 0) X0.col(j).normalize();
+  // Columns below 1e-10 of the largest are rounding of a zero signature (diagnosis.cc ColumnNorms).
+  double largest_column = 0.0;
+  for (Eigen::Index j = 0; j < X0.cols(); ++j) largest_column = std::max(largest_column, X0.col(j).norm());
+  for (Eigen::Index j = 0; j < X0.cols(); ++j) {
+    if (X0.col(j).norm() > 1e-10 * largest_column) {
+      X0.col(j).normalize();
+    } else {
+      X0.col(j).setZero();
+    }
+  }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(X0, Eigen::ComputeThinU);
   int rank = 0;
   for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k)
@@ -275,6 +283,10 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
             const double peak = (trial.observable && !options.scale_raw_peak) ? vis_peak : raw_peak;
             if (!(peak > 0)) trial.observable = false;
             k = peak > 0 ? magnitude * noise / peak : 0.0;
+            // No signature (rounding, e.g. E_ZX on the flank-milled cone: Z slides the tool along
+            // its own axis): scaling the rounding to the target peak would make the effect km
+            // long; it is run at its drawn (unit) size, unobservable.
+            if (raw_peak <= kNoSignature_um) k = 1.0;
             w->Scale(k);
           }
           trial.effect_rms_um = k * std::sqrt(visible.squaredNorm() / static_cast<double>(n));

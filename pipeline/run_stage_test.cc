@@ -141,6 +141,22 @@ TEST(RunStage, ConeSampleReportsEstimableCombinationsThatMatchTheTruth) {
         << comb.text << " = " << comb.value << " +- " << comb.u << ", truth " << truth;
   }
   EXPECT_LT(id.rms_after_um, 0.7);  // the CMM noise (0.5 um): the combinations explain the piece
+  // The diagnosis's base model: E_Z0A has no signature on the flank-milled cone (Z slides the tool
+  // along its own axis; its column is rounding, ~1e-15 of the others). It must come out not
+  // identifiable, not fitted as a direction (it was -3.3e13 um +- 5.9e14 um).
+  ASSERT_TRUE(r->diagnosis.has_value()) << r->diagnosis_status.ToString();
+  bool seen = false;
+  for (const auto& p : r->diagnosis->base_parameters) {
+    if (p.name != "E_Z0A") continue;
+    seen = true;
+    EXPECT_FALSE(p.identifiable) << p.value;
+  }
+  EXPECT_TRUE(seen);
+  for (const auto& p : r->diagnosis->base_parameters) {
+    if (p.identifiable) {
+      EXPECT_LT(std::abs(p.value), 1e5) << p.name;  // um / urad: no rounding direction fitted
+    }
+  }
 }
 
 // The sample's truth holds only errors of the identified set: the diagnosis must find nothing
