@@ -28,11 +28,14 @@ std::vector<ceres::Jet<double, N>> Seed(const ErrorState& errors, const ActiveSe
 using ComponentMask = std::bitset<kNumComponents>;
 
 // G (3 x kNumComponents, columns outside `mask` zero): d(L(e) u) / d e, the derivative of the
-// link transform applied to the fixed point u (parent frame of the link) in its error
-// components, by one pass of LinkTransform with Jet<double, N> (N >= mask.count()).
+// link transform L (parent_from_child, R_L its rotation) applied to the fixed point u (parent
+// frame of the link) in its error components. Closed form where LinkTransform is affine in a
+// component: d/d e_t = I (every link); for a rotary link, d/d l_t = R(e_r) - R_L (its translation
+// is T(e_t) R(e_r) (l_t - R_g l_t) + ...); a linear link has no l_t. The rotations e_r and the
+// tilts l_r by one pass of LinkTransform with Jet<double, N> (N >= their count).
 template <int N>
-void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
-                         const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
+void RotationColumns(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
+                     const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
   using J = ceres::Jet<double, N>;
   std::array<J, kNumComponents> ej;
   std::array<int, kNumComponents> slot{};
@@ -45,7 +48,6 @@ void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, Co
     }
   }
   const PoseT<J> l = LinkTransform<J>(link, ej.data(), J(q));
-  G->setZero();
   for (int r = 0; r < 3; ++r) {
     const J v = l.R(r, 0) * u(0) + l.R(r, 1) * u(1) + l.R(r, 2) * u(2) + l.t(r);
     for (int c = 0; c < kNumComponents; ++c)
@@ -53,17 +55,30 @@ void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, Co
   }
 }
 
-void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
-                         const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
-  const std::size_t width = mask.count();
-  if (width <= 2) {
-    LinkPointDerivative<2>(link, e, q, mask, u, G);
+void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, const Eigen::Matrix3d& R_L,
+                         ComponentMask mask, const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
+  G->setZero();
+  for (int c = 0; c < 3; ++c)
+    if (mask[static_cast<std::size_t>(c)]) (*G)(c, c) = 1.0;
+  const bool rotary = IsRotary(link.axis);
+  if (rotary && (mask[6] || mask[7] || mask[8])) {
+    const bool has_r = e[3] != 0.0 || e[4] != 0.0 || e[5] != 0.0;
+    const Eigen::Matrix3d re = has_r ? chain_internal::RotXYZ(e[3], e[4], e[5]) : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d d = re - R_L;
+    for (int c = 6; c < 9; ++c)
+      if (mask[static_cast<std::size_t>(c)]) G->col(c) = d.col(c - 6);
+  }
+  ComponentMask rot = mask;
+  for (std::size_t c : {0u, 1u, 2u, 6u, 7u, 8u}) rot.reset(c);
+  const std::size_t width = rot.count();
+  if (width == 0) {
+    return;
+  } else if (width <= 2) {
+    RotationColumns<2>(link, e, q, rot, u, G);
   } else if (width <= 4) {
-    LinkPointDerivative<4>(link, e, q, mask, u, G);
-  } else if (width <= 8) {
-    LinkPointDerivative<8>(link, e, q, mask, u, G);
+    RotationColumns<4>(link, e, q, rot, u, G);
   } else {
-    LinkPointDerivative<kNumComponents>(link, e, q, mask, u, G);
+    RotationColumns<6>(link, e, q, rot, u, G);
   }
 }
 
@@ -108,7 +123,7 @@ Eigen::Vector3d LinkDerivatives(const MachineModel& model, const std::vector<Lin
   for (int i = m - 1; i >= nw; --i) {
     const auto k = static_cast<std::size_t>(i);
     if (mask[k].any()) {
-      LinkPointDerivative(model.links[k], link_errors[k], qi(i), mask[k], u, &G);
+      LinkPointDerivative(model.links[k], link_errors[k], qi(i), L[k].R, mask[k], u, &G);
       (*D)[k] = W.R.transpose() * (prefix[k].R * G);
     }
     u = L[k] * u;
@@ -118,7 +133,7 @@ Eigen::Vector3d LinkDerivatives(const MachineModel& model, const std::vector<Lin
   for (int i = nw - 1; i >= 0; --i) {
     const auto k = static_cast<std::size_t>(i);
     if (mask[k].any()) {
-      LinkPointDerivative(model.links[k], link_errors[k], qi(i), mask[k], z, &G);
+      LinkPointDerivative(model.links[k], link_errors[k], qi(i), L[k].R, mask[k], z, &G);
       (*D)[k] = -(RB.transpose() * (L[k].R.transpose() * G));
     }
     z = L[k] * z;
