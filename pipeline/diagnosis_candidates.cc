@@ -5,6 +5,7 @@
 #include <map>
 #include <numbers>
 
+#include "core/parallel.h"
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/forward_kinematics.h"
@@ -188,33 +189,45 @@ Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinem
   if (design.dslot_um.rows() != n)
     return Status(StatusCode::kInvalidArgument, "diagnosis: slot design of " + std::to_string(design.dslot_um.rows()) +
                                                     " observations for " + std::to_string(n));
-  // Chain rule per coefficient (the basis of each term evaluated once per point for all its coefficients).
+  // Chain rule per coefficient (the basis of each term evaluated once per point for all its
+  // coefficients), over the points on all cores (each point writes its own row).
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(coefficients.size()));
-  std::map<int, std::vector<std::size_t>> columns_of_term;
-  for (std::size_t j = 0; j < coefficients.size(); ++j)
-    columns_of_term[errors.coefficient_info(coefficients[j]).term].push_back(j);
-  std::vector<double> w;
-  for (const auto& [term_index, columns] : columns_of_term) {
-    const auto& term = errors.terms()[static_cast<std::size_t>(term_index)];
-    std::vector<std::pair<int, double>> sg;
-    for (const auto& e : term.effects) {
-      const auto it = std::find(design.slots.begin(), design.slots.end(), Slot{e.axis, e.component});
-      if (it == design.slots.end())
-        return Status(StatusCode::kInvalidArgument, "diagnosis: term " + term.label + " writes a slot the design lacks");
-      sg.emplace_back(static_cast<int>(it - design.slots.begin()), e.gain);
-    }
-    for (Eigen::Index i = 0; i < n; ++i) {
-      kinematics::EvaluateTermBasis(term, obs[static_cast<std::size_t>(i)].cut.axes, &w);
-      for (std::size_t j : columns) {
-        const auto& info = errors.coefficient_info(coefficients[j]);
-        const double b = w[static_cast<std::size_t>(info.index)];
-        if (b == 0.0) continue;
-        double v = 0;
-        for (const auto& [k, g] : sg) v += g * design.dslot_um(i, k);
-        J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
-      }
+  struct TermColumns {
+    const kinematics::ErrorTerm* term;
+    std::vector<std::size_t> columns;
+    std::vector<std::pair<int, double>> slot_gain;
+  };
+  std::map<int, TermColumns> by_term;
+  for (std::size_t j = 0; j < coefficients.size(); ++j) {
+    const int t = errors.coefficient_info(coefficients[j]).term;
+    auto [it, inserted] = by_term.try_emplace(t, TermColumns{&errors.terms()[static_cast<std::size_t>(t)], {}, {}});
+    it->second.columns.push_back(j);
+    if (!inserted) continue;
+    for (const auto& e : it->second.term->effects) {
+      const auto at = std::find(design.slots.begin(), design.slots.end(), Slot{e.axis, e.component});
+      if (at == design.slots.end())
+        return Status(StatusCode::kInvalidArgument,
+                      "diagnosis: term " + it->second.term->label + " writes a slot the design lacks");
+      it->second.slot_gain.emplace_back(static_cast<int>(at - design.slots.begin()), e.gain);
     }
   }
+  ParallelChunks(static_cast<std::size_t>(n), 8192, [&](std::size_t begin, std::size_t end) {
+    std::vector<double> w;
+    for (const auto& [term_index, tc] : by_term) {
+      for (std::size_t ii = begin; ii < end; ++ii) {
+        const auto i = static_cast<Eigen::Index>(ii);
+        kinematics::EvaluateTermBasis(*tc.term, obs[ii].cut.axes, &w);
+        double v = 0;
+        for (const auto& [k, g] : tc.slot_gain) v += g * design.dslot_um(i, k);
+        for (std::size_t j : tc.columns) {
+          const auto& info = errors.coefficient_info(coefficients[j]);
+          const double b = w[static_cast<std::size_t>(info.index)];
+          if (b != 0.0) J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
+        }
+      }
+    }
+    return true;
+  });
   return J;
 }
 
@@ -347,15 +360,19 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
   // ---- process families: columns from the cut model.
   std::vector<Eigen::Vector3d> nm(static_cast<std::size_t>(n));
   const kinematics::ErrorState zero(machine);
-  kinematics::Workspace ws;
   std::vector<Eigen::Matrix3d> mfp(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    mfp[static_cast<std::size_t>(i)] = kinematics::MachineFromPart(machine, zero, obs[static_cast<std::size_t>(i)].cut.axes, &ws).linear();
-    nm[static_cast<std::size_t>(i)] = mfp[static_cast<std::size_t>(i)] * obs[static_cast<std::size_t>(i)].cut.nominal_normal;
-  }
-  auto feature_of = [&](Eigen::Index i) -> const std::string& {
-    return mo.feature_names[static_cast<std::size_t>(obs[static_cast<std::size_t>(i)].group)];
-  };
+  ParallelChunks(static_cast<std::size_t>(n), 8192, [&](std::size_t begin, std::size_t end) {
+    kinematics::Workspace ws;
+    for (std::size_t i = begin; i < end; ++i) {
+      mfp[i] = kinematics::MachineFromPart(machine, zero, obs[i].cut.axes, &ws).linear();
+      nm[i] = mfp[i] * obs[i].cut.nominal_normal;
+    }
+    return true;
+  });
+  // The cut of each feature (looked up once per feature, not per point).
+  std::vector<const testpieces::FeatureCut*> cut_of_group(mo.feature_names.size());
+  for (std::size_t g = 0; g < mo.feature_names.size(); ++g) cut_of_group[g] = piece.Cut(mo.feature_names[g]);
+  auto cut_of = [&](Eigen::Index i) { return cut_of_group[static_cast<std::size_t>(obs[static_cast<std::size_t>(i)].group)]; };
   {  // tool_deflection
     enum Class { kTurnSide, kTurnFace, kMillSide, kMillFloor, kNumClasses };
     const char* class_names[] = {"turned_side", "turned_face", "milled_wall", "milled_floor"};
@@ -369,7 +386,7 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
         c.units.push_back("um");
       }
     for (Eigen::Index i = 0; i < n; ++i) {
-      const testpieces::FeatureCut* fc = piece.Cut(feature_of(i));
+      const testpieces::FeatureCut* fc = cut_of(i);
       if (!fc) continue;
       int cls = -1;
       if (const auto* t = std::get_if<testpieces::TurnedCut>(&fc->model)) cls = t->radial_feed ? kTurnFace : kTurnSide;
@@ -398,7 +415,7 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
                                    {0.5 * std::numbers::pi, Eigen::Vector3d::UnitY(), 1},
                                    {1.5 * std::numbers::pi, -Eigen::Vector3d::UnitY(), 1}};
     for (Eigen::Index i = 0; i < n; ++i) {
-      const testpieces::FeatureCut* fc = piece.Cut(feature_of(i));
+      const testpieces::FeatureCut* fc = cut_of(i);
       if (!fc) continue;
       const auto& o = obs[static_cast<std::size_t>(i)];
       auto arc = testpieces::ArcTravelAt(*fc, o.cut.nominal_point_mm, mfp[static_cast<std::size_t>(i)]);
