@@ -435,10 +435,9 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       cr.parameters.push_back({cc.parameter_names[static_cast<std::size_t>(j)], cc.units[static_cast<std::size_t>(j)],
                                coef(j), u, b.identifiable[static_cast<std::size_t>(j)]});
     }
-    const Eigen::VectorXd effect = cc.J_dev_effect * coef;
-    cr.effect_um.assign(effect.data(), effect.data() + effect.size());
     // Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef).
     if (q_fit > 0 && b.rank > 0) {
+      const Eigen::VectorXd effect = cc.J_dev_effect * coef;
       Eigen::VectorXd dcoef, du;
       std::vector<bool> dident;
       Solve(base, effect, 0.0, &dcoef, &du, &dident);

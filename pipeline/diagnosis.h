@@ -155,7 +155,6 @@ struct CandidateResult {
   bool significant = false;
   std::vector<EffectParameter> parameters;
   std::vector<BaseShift> base_shift;
-  std::vector<double> effect_um;  // the fitted effect per point (um)
 };
 
 struct UnobservableFamily {
