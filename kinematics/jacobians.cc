@@ -2,6 +2,7 @@
 
 #include <ceres/jet.h>
 
+#include <Eigen/Geometry>
 #include <bitset>
 #include <vector>
 
@@ -27,58 +28,84 @@ std::vector<ceres::Jet<double, N>> Seed(const ErrorState& errors, const ActiveSe
 
 using ComponentMask = std::bitset<kNumComponents>;
 
-// G (3 x kNumComponents, columns outside `mask` zero): d(L(e) u) / d e, the derivative of the
-// link transform L (parent_from_child, R_L its rotation) applied to the fixed point u (parent
-// frame of the link) in its error components. Closed form where LinkTransform is affine in a
-// component: d/d e_t = I (every link); for a rotary link, d/d l_t = R(e_r) - R_L (its translation
-// is T(e_t) R(e_r) (l_t - R_g l_t) + ...); a linear link has no l_t. The rotations e_r and the
-// tilts l_r by one pass of LinkTransform with Jet<double, N> (N >= their count).
-template <int N>
-void RotationColumns(const AxisLink& link, const LinkErrors& e, double q, ComponentMask mask,
-                     const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
-  using J = ceres::Jet<double, N>;
-  std::array<J, kNumComponents> ej;
-  std::array<int, kNumComponents> slot{};
-  int k = 0;
-  for (int c = 0; c < kNumComponents; ++c) {
-    ej[static_cast<std::size_t>(c)] = J(e[static_cast<std::size_t>(c)]);
-    if (mask[static_cast<std::size_t>(c)]) {
-      ej[static_cast<std::size_t>(c)].v[k] = 1.0;
-      slot[static_cast<std::size_t>(c)] = k++;
-    }
-  }
-  const PoseT<J> l = LinkTransform<J>(link, ej.data(), J(q));
-  for (int r = 0; r < 3; ++r) {
-    const J v = l.R(r, 0) * u(0) + l.R(r, 1) * u(1) + l.R(r, 2) * u(2) + l.t(r);
-    for (int c = 0; c < kNumComponents; ++c)
-      if (mask[static_cast<std::size_t>(c)]) (*G)(r, c) = v.v[slot[static_cast<std::size_t>(c)]];
-  }
+Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d m;
+  m << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+  return m;
 }
 
+// d RotXYZ(a, b, c) / d a, b, c for RotXYZ = Rx(a) Ry(b) Rz(c): [x] R, Rx [y] Ry Rz, R [z].
+std::array<Eigen::Matrix3d, 3> RotXYZPartials(double a, double b, double c) {
+  using chain_internal::RotXYZ;
+  const Eigen::Matrix3d Rx = RotXYZ(a, 0.0, 0.0), Ry = RotXYZ(0.0, b, 0.0), Rz = RotXYZ(0.0, 0.0, c);
+  const Eigen::Matrix3d R = Rx * Ry * Rz;
+  return {Skew(Eigen::Vector3d::UnitX()) * R, Rx * Skew(Eigen::Vector3d::UnitY()) * Ry * Rz,
+          R * Skew(Eigen::Vector3d::UnitZ())};
+}
+
+// G (3 x kNumComponents, columns outside `mask` zero): d(L(e) u) / d e, the derivative of the
+// link transform L (parent_from_child, R_L its rotation) applied to the fixed point u (parent
+// frame of the link) in its error components, in closed form from the chain formula of
+// LinkTransform (chain_eval.h). With R_e = RotXYZ(e_r) and k = RotXYZ(l_r) a the (tilted) axis:
+//   rotary: L u = p + e_t + R_e (l_t + R_g(k, s q) m), m = u - p - l_t, R_g Rodrigues;
+//   linear: L u = p + s q k + e_t + R_e (u - p).
+// So d/d e_t = I; d/d l_t = R_e - R_L (rotary); d/d e_r = (d R_e) w with w the vector R_e acts
+// on; d/d l_r = (d/d k)(d k / d l_r) with d(R_g m)/d k_i = sin e_i x m + (1 - cos)(e_i k.m + k m_i)
+// (rotary, times R_e) or s q I (linear). Exact (the same derivative as forward-mode
+// differentiation of LinkTransform, tested through the whole chain).
 void LinkPointDerivative(const AxisLink& link, const LinkErrors& e, double q, const Eigen::Matrix3d& R_L,
                          ComponentMask mask, const Eigen::Vector3d& u, Eigen::Matrix<double, 3, kNumComponents>* G) {
+  using chain_internal::RotXYZ;
   G->setZero();
   for (int c = 0; c < 3; ++c)
     if (mask[static_cast<std::size_t>(c)]) (*G)(c, c) = 1.0;
   const bool rotary = IsRotary(link.axis);
-  if (rotary && (mask[6] || mask[7] || mask[8])) {
-    const bool has_r = e[3] != 0.0 || e[4] != 0.0 || e[5] != 0.0;
-    const Eigen::Matrix3d re = has_r ? chain_internal::RotXYZ(e[3], e[4], e[5]) : Eigen::Matrix3d::Identity();
+  const bool need_r = mask[3] || mask[4] || mask[5];
+  const bool need_l_r = mask[9] || mask[10] || mask[11];
+  const bool need_l_t = rotary && (mask[6] || mask[7] || mask[8]);
+  if (!need_r && !need_l_r && !need_l_t) return;
+  const bool has_r = e[3] != 0.0 || e[4] != 0.0 || e[5] != 0.0;
+  const Eigen::Matrix3d re = has_r ? RotXYZ(e[3], e[4], e[5]) : Eigen::Matrix3d::Identity();
+  if (need_l_t) {
     const Eigen::Matrix3d d = re - R_L;
     for (int c = 6; c < 9; ++c)
       if (mask[static_cast<std::size_t>(c)]) G->col(c) = d.col(c - 6);
   }
-  ComponentMask rot = mask;
-  for (std::size_t c : {0u, 1u, 2u, 6u, 7u, 8u}) rot.reset(c);
-  const std::size_t width = rot.count();
-  if (width == 0) {
-    return;
-  } else if (width <= 2) {
-    RotationColumns<2>(link, e, q, rot, u, G);
-  } else if (width <= 4) {
-    RotationColumns<4>(link, e, q, rot, u, G);
+  if (!need_r && !need_l_r) return;
+  const int dir = AxisIndex(link.axis) % 3;
+  const double sq = link.motion_sign() * q;
+  const bool tilted = e[9] != 0.0 || e[10] != 0.0 || e[11] != 0.0;
+  const Eigen::Vector3d k = tilted ? Eigen::Vector3d(RotXYZ(e[9], e[10], e[11]).col(dir))
+                                   : Eigen::Vector3d(Eigen::Vector3d::Unit(dir));
+  Eigen::Vector3d w, m;
+  double s = 0.0, c = 1.0;
+  if (rotary) {
+    const Eigen::Vector3d l_t(e[6], e[7], e[8]);
+    m = u - link.pivot_mm - l_t;
+    chain_internal::SinCos(sq, &s, &c);
+    w = l_t + chain_internal::Rodrigues(k, sq) * m;
   } else {
-    RotationColumns<6>(link, e, q, rot, u, G);
+    w = u - link.pivot_mm;
+  }
+  if (need_r) {
+    const auto dR = RotXYZPartials(e[3], e[4], e[5]);
+    for (int j = 0; j < 3; ++j)
+      if (mask[static_cast<std::size_t>(3 + j)]) G->col(3 + j) = dR[static_cast<std::size_t>(j)] * w;
+  }
+  if (need_l_r) {
+    const auto dK = RotXYZPartials(e[9], e[10], e[11]);
+    Eigen::Matrix3d d_dk;  // d(L u) / d k
+    if (rotary) {
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d ei = Eigen::Vector3d::Unit(i);
+        d_dk.col(i) = s * ei.cross(m) + (1.0 - c) * (ei * k.dot(m) + k * m(i));
+      }
+      d_dk = re * d_dk;
+    } else {
+      d_dk = sq * Eigen::Matrix3d::Identity();
+    }
+    for (int j = 0; j < 3; ++j)
+      if (mask[static_cast<std::size_t>(9 + j)]) G->col(9 + j) = d_dk * dK[static_cast<std::size_t>(j)].col(dir);
   }
 }
 
