@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <map>
 #include <numbers>
 
@@ -635,17 +636,31 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
                            : std::sqrt(ssr_final / std::max<double>(1.0, static_cast<double>(n - dof_final)));
   std::vector<double> t_s(static_cast<std::size_t>(n));
   std::map<std::string, std::vector<Eigen::Index>> by_feature, by_op, by_a;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto& o = obs[static_cast<std::size_t>(i)];
-    t_s[static_cast<std::size_t>(i)] = o.cut.axes.t_s;
-    by_feature[mo.feature_names[static_cast<std::size_t>(o.group)]].push_back(i);
+  {  // Group keys are formatted once per distinct value (not once per point).
+    std::vector<std::vector<Eigen::Index>> of_group(mo.feature_names.size());
+    std::map<int, std::vector<Eigen::Index>> of_op;
+    std::map<double, std::vector<Eigen::Index>> of_a;  // rounded to 0.001 deg
+    const bool has_a = machine.HasAxis(kinematics::Axis::kA);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto& o = obs[static_cast<std::size_t>(i)];
+      t_s[static_cast<std::size_t>(i)] = o.cut.axes.t_s;
+      of_group[static_cast<std::size_t>(o.group)].push_back(i);
+      of_op[o.cut.axes.op].push_back(i);
+      const double a_deg = RadToDeg(has_a ? o.cut.axes.a_rad : o.cut.axes.b_rad);
+      of_a[std::round(a_deg * 1000.0) / 1000.0 + 0.0].push_back(i);
+    }
+    for (std::size_t g = 0; g < of_group.size(); ++g)
+      if (!of_group[g].empty()) by_feature[mo.feature_names[g]] = std::move(of_group[g]);
     char buf[32];
-    std::snprintf(buf, sizeof(buf), "op %d", o.cut.axes.op);
-    by_op[buf].push_back(i);
-    const double a_deg = RadToDeg(machine.HasAxis(kinematics::Axis::kA) ? o.cut.axes.a_rad : o.cut.axes.b_rad);
-    std::snprintf(buf, sizeof(buf), "%s=%g deg", machine.HasAxis(kinematics::Axis::kA) ? "A" : "B",
-                  std::round(a_deg * 1000.0) / 1000.0 + 0.0);
-    by_a[buf].push_back(i);
+    for (auto& [op, idx] : of_op) {
+      std::snprintf(buf, sizeof(buf), "op %d", op);
+      by_op[buf] = std::move(idx);
+    }
+    for (auto& [a, idx] : of_a) {
+      std::snprintf(buf, sizeof(buf), "%s=%g deg", has_a ? "A" : "B", a);
+      auto& v = by_a[buf];  // distinct values print distinctly at 0.001 deg; merge if not
+      v.insert(v.end(), idx.begin(), idx.end());
+    }
   }
   const double s = out.noise_sigma_um;
   GroupStats(by_feature, r0, t_s, s, options.stand_out_z, &out.by_feature, &out.standing_out, "feature ");
@@ -669,17 +684,22 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
       c /= static_cast<double>(idx.size());
       const int kmax = std::min<int>(options.max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
-      for (int k = 1; k <= kmax; ++k) {
-        double a = 0, b = 0;
-        for (auto i : idx) {
-          const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
-          const double phi = std::atan2(d.y(), d.x());
-          a += r0(i) * std::cos(k * phi);
-          b += r0(i) * std::sin(k * phi);
+      // One pass: cos(k phi) + i sin(k phi) = w^k with w = e^{i phi} (azimuth phi of the point).
+      std::vector<std::complex<double>> sum(static_cast<std::size_t>(std::max(kmax, 0)) + 1, 0.0);
+      for (auto i : idx) {
+        const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
+        const double rho = std::hypot(d.x(), d.y());
+        const std::complex<double> w = rho > 0 ? std::complex<double>(d.x() / rho, d.y() / rho) : 1.0;
+        std::complex<double> wk = 1.0;
+        for (int k = 1; k <= kmax; ++k) {
+          wk *= w;
+          sum[static_cast<std::size_t>(k)] += r0(i) * wk;
         }
+      }
+      for (int k = 1; k <= kmax; ++k) {
         const double m = static_cast<double>(idx.size());
-        a *= 2.0 / m;
-        b *= 2.0 / m;
+        const double a = sum[static_cast<std::size_t>(k)].real() * 2.0 / m;
+        const double b = sum[static_cast<std::size_t>(k)].imag() * 2.0 / m;
         HarmonicGap h{name, k, std::hypot(a, b), RadToDeg(std::atan2(b, a)), 0.0, false};
         h.z = s > 0 ? h.amplitude_um / (s * std::sqrt(2.0 / m)) : 0.0;
         all.push_back(h);

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <set>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "gdt/inspection.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis_json.h"
 #include "pipeline/diagnosis_validate.h"
@@ -47,6 +50,66 @@ Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::
   o.seed = seed;
   o.random_placement = true;
   return testpieces::SimulatePiece(f.piece, f.machine, e, o);
+}
+
+// "Where it lies": the C harmonics of each circular profile, the groups by operation and by A
+// index, recomputed here from their definitions on the diagnosis's own gap (truth: the
+// definitions; tolerance 1e-9 um: sums of ~50 terms of ~10 um in another order).
+TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine,
+                             "effects:\n  - rotary_error_motion: {symbol: E_XC, harmonics: [{order: 3, cos_um: 3, sin_um: 1}]}\n");
+  auto sim = Simulate(f, errors, 0.5, 21);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
+  ASSERT_TRUE(inspection.ok());
+  auto mo = ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+  ASSERT_TRUE(mo.ok()) << mo.status().message();
+  auto d = DiagnoseObservations(f.piece, f.machine, *mo);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  const auto& obs = mo->observations;
+  ASSERT_EQ(d->gap_um.size(), obs.size());
+  std::map<std::string, std::vector<std::size_t>> by_feature, by_op, by_a;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    by_feature[mo->feature_names[static_cast<std::size_t>(obs[i].group)]].push_back(i);
+    by_op[fmt::format("op {}", obs[i].cut.axes.op)].push_back(i);
+    by_a[fmt::format("A={:g} deg", std::round(obs[i].cut.axes.a_rad * 180.0 / M_PI * 1000.0) / 1000.0 + 0.0)].push_back(i);
+  }
+  int checked = 0;
+  for (const auto& h : d->harmonics) {
+    const auto& idx = by_feature.at(h.feature);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (auto i : idx) c += obs[i].cut.nominal_point_mm;
+    c /= static_cast<double>(idx.size());
+    double a = 0, b = 0;
+    for (auto i : idx) {
+      const Eigen::Vector3d v = obs[i].cut.nominal_point_mm - c;
+      const double phi = std::atan2(v.y(), v.x());
+      a += d->gap_um[i] * std::cos(h.order * phi);
+      b += d->gap_um[i] * std::sin(h.order * phi);
+    }
+    a *= 2.0 / static_cast<double>(idx.size());
+    b *= 2.0 / static_cast<double>(idx.size());
+    EXPECT_NEAR(h.amplitude_um, std::hypot(a, b), 1e-9) << h.feature << " order " << h.order;
+    if (std::hypot(a, b) > 1e-3) {
+      EXPECT_NEAR(std::remainder(h.phase_deg - std::atan2(b, a) * 180.0 / M_PI, 360.0), 0.0, 1e-6) << h.feature;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+  auto check_groups = [&](const std::vector<GroupGap>& groups, const std::map<std::string, std::vector<std::size_t>>& truth) {
+    ASSERT_EQ(groups.size(), truth.size());
+    for (const auto& g : groups) {
+      const auto& idx = truth.at(g.group);
+      double ss = 0;
+      for (auto i : idx) ss += d->gap_um[i] * d->gap_um[i];
+      EXPECT_EQ(g.n_points, static_cast<int>(idx.size())) << g.group;
+      EXPECT_NEAR(g.rms_um, std::sqrt(ss / static_cast<double>(idx.size())), 1e-9) << g.group;
+    }
+  };
+  check_groups(d->by_operation, by_op);
+  check_groups(d->by_a_index, by_a);
+  check_groups(d->by_feature, by_feature);
 }
 
 // Location errors only (what the base model holds) + noise: the gap is noise, verdict none.
