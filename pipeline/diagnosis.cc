@@ -444,7 +444,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       Solve(base, effect, 0.0, &dcoef, &du, &dident);
       for (int k = 0; k < q_fit; ++k) {
         const auto& bp = out.base_parameters[static_cast<std::size_t>(k)];
-        if (std::abs(dcoef(k)) < 1e-9) continue;
+        if (!bp.identifiable || std::abs(dcoef(k)) < 1e-9) continue;  // no number for what the data cannot separate
         cr.base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k)});
       }
     }
