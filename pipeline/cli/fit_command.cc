@@ -1,4 +1,5 @@
-// tpcal fit POINTS [--plan PLAN.yaml] [--type FEATURE=KIND ...] [--criterion ls|mz] [--json OUT]
+// tpcal fit POINTS [--plan PLAN.yaml | --testpiece NAME [--config TP.yaml] [--machine M.yaml]]
+//           [--type FEATURE=KIND ...] [--criterion ls|mz] [--json OUT]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -14,7 +15,9 @@
 #include "pipeline/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/fit_json.h"
+#include "pipeline/piece_setup.h"
 #include "pipeline/point_io.h"
+#include "pipeline/raw_scan_labeling.h"
 
 namespace tpcal::cli {
 namespace {
@@ -26,6 +29,9 @@ struct FitArgs {
   std::string criterion;
   std::string json;
   int threads = 0;
+  std::string testpiece;  // optional: label a raw scan by this piece; its inspection plan by default
+  std::string config;
+  std::string machine;
 };
 
 Result<std::map<std::string, gdt::FeatureKind>> ParseTypes(const std::vector<std::string>& types) {
@@ -71,11 +77,30 @@ int RunFit(const FitArgs& args) {
   auto kinds = ParseTypes(args.types);
   if (!kinds.ok()) return ReportError(kinds.status());
 
+  // With a test piece: a raw scan (no feature labels) is labelled by the piece's nominal
+  // features, and the piece's inspection plan is evaluated unless --plan names another.
   std::optional<gdt::InspectionPlan> plan;
+  if (!args.testpiece.empty()) {
+    auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
+    if (!setup.ok()) return ReportError(setup.status());
+    auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);
+    if (!labelled.ok()) return ReportError(labelled.status());
+    if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
+    if (args.plan.empty()) plan = setup->piece.inspection;
+  } else if (!args.config.empty() || !args.machine.empty()) {
+    return ReportError(Status(StatusCode::kInvalidArgument, "--config and --machine need --testpiece"));
+  } else if (!points->has_labels()) {
+    return ReportError(Status(StatusCode::kInvalidArgument,
+                              "no point carries a feature label (a raw scan): give --testpiece NAME to label it "
+                              "by the piece's nominal features",
+                              args.points));
+  }
   if (!args.plan.empty()) {
     auto loaded = gdt::LoadInspectionPlan(args.plan);
     if (!loaded.ok()) return ReportError(loaded.status());
     plan = std::move(*loaded);
+  }
+  if (plan) {
     for (const auto& [name, kind] : *kinds) {
       bool found = false;
       for (auto& f : plan->features)
@@ -119,12 +144,15 @@ int RunFit(const FitArgs& args) {
 
 Command RegisterFit(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
+  std::string names;
+  for (const auto& n : pipeline::TestPieceNames()) names += (names.empty() ? "" : ", ") + n;
   CLI::App* sub = app.add_subcommand(
       "fit",
       "Fit features and evaluate GD&T from CMM points.\n"
       "Least-squares (ISO 10360-6) fits of every feature, the datum frame and the characteristics of an\n"
       "inspection plan (samples/plans/turning.yaml for the seed 002 turning test piece). Without a plan every\n"
-      "labelled feature is fitted in the CMM frame, its kind taken from --type or inferred from the normals.");
+      "labelled feature is fitted in the CMM frame, its kind taken from --type or inferred from the normals.\n"
+      "A raw scan (no feature labels) needs --testpiece: its points are assigned to the piece's nominal features.");
   sub->add_option("POINTS", args->points, "point file: tpcal points CSV, PLY, PCD or x y z [i j k] text (mm)")
       ->required();
   sub->add_option("--plan", args->plan, "inspection plan YAML (schema tpcal.inspection_plan/1)");
@@ -132,6 +160,11 @@ Command RegisterFit(CLI::App& app) {
   sub->add_option("--criterion", args->criterion, "form criterion of every feature: ls (least squares) or mz (minimum zone)")
       ->check(CLI::IsMember({"ls", "mz"}));
   sub->add_option("--json", args->json, "write the result as JSON (schema tpcal.fit/1) to this file; '-' for stdout");
+  sub->add_option("--testpiece", args->testpiece,
+                  "test piece whose nominal features label a raw scan (points without labels); its inspection "
+                  "plan is evaluated unless --plan is given: " + names);
+  sub->add_option("--config", args->config, "test-piece configuration YAML (schema tpcal.testpiece/1; with --testpiece)");
+  sub->add_option("--machine", args->machine, "machine model YAML (with --testpiece; default: nominal ac_table or xyz)");
   sub->add_option("--threads", args->threads, "parser threads (0 = all cores)")->capture_default_str();
   return {sub, [args] { return RunFit(*args); }};
 }
