@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -350,13 +351,16 @@ Status RawScanLabelingOptions::Validate() const {
   if (!(min_labelled_fraction > 0 && min_labelled_fraction <= 1)) return bad("min_labelled_fraction must be in (0, 1]");
   if (!(max_rms_um > 0)) return bad("max_rms_um must be > 0");
   if (min_points < 10) return bad("min_points must be >= 10");
+  if (anchor_feature.empty() != !anchor_near_mm.has_value())
+    return bad("anchor_feature and anchor_near_mm go together");
+  if (anchor_near_mm && !anchor_near_mm->allFinite()) return bad("anchor_near_mm must be finite");
   return nominal_density.Validate();
 }
 
 std::string RawScanLabeling::BriefReport() const {
   std::string s = fmt::format("{} points: {} labelled ({:.1f} %), {} rejected, RMS {:.1f} um", num_points,
                               num_points - num_rejected, 100.0 * labelled_fraction, num_rejected, rms_distance_um);
-  if (symmetry_order > 1) s += fmt::format(", symmetry of order {} resolved by file order", symmetry_order);
+  if (symmetry_order > 1) s += fmt::format(", symmetry of order {} resolved by {}", symmetry_order, symmetry_resolved_by);
   s += ";";
   for (const auto& c : counts) s += fmt::format(" {} {}", c.feature, c.points);
   return s;
@@ -542,7 +546,7 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
                               options.max_rms_um),
                   source);
 
-  // ---- symmetry: choose among equivalent placements by file order ----
+  // ---- symmetry: choose among equivalent placements by the anchor, else by file order ----
   const Symmetry sym = FindSymmetry(piece, model);
   int chosen = 0;
   std::string message = fmt::format("best of {} coarse placements, {} refined", candidates_scored, starts.size());
@@ -556,12 +560,39 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
       }
       return false;
     };
-    for (int k = 1; k < sym.order; ++k)
-      if (less(k, chosen)) chosen = k;
-    message += fmt::format(
-        "; the nominal piece is symmetric under rotations by 360/{} deg about its axis, which permute feature labels: "
-        "of the {} equivalent labellings the one listing features in plan order in the file was chosen (rotation {})",
-        sym.order, sym.order, chosen);
+    int anchor = -1;  // piece feature index of the anchor
+    for (std::size_t f = 0; f < piece.features.size(); ++f)
+      if (piece.features[f].name == options.anchor_feature) anchor = static_cast<int>(f);
+    if (options.anchor_near_mm && anchor < 0)
+      return Status(StatusCode::kInvalidArgument,
+                    "raw-scan anchor: '" + options.anchor_feature + "' is not a feature of the " + piece.name, source);
+    if (options.anchor_near_mm) {
+      // Nominal centroid of the anchor feature (part frame); in labelling k it sits at
+      // (S_k part_from_cmm)^-1 of it in the scan frame.
+      Vector3d c_part = Vector3d::Zero();
+      int m = 0;
+      for (std::size_t j = 0; j < model.feature.size(); ++j)
+        if (model.feature[j] == anchor) c_part += model.p_part_mm[j], ++m;
+      c_part /= std::max(1, m);
+      double best_d = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < sym.order; ++k) {
+        const Rigid3 s_k = RotationAbout(sym.axis, model.centroid_mm, 2.0 * std::numbers::pi * k / sym.order);
+        const double d = ((s_k * best->part_from_cmm).inverse() * c_part - *options.anchor_near_mm).norm();
+        if (d < best_d) best_d = d, chosen = k;
+      }
+      message += fmt::format(
+          "; the nominal piece is symmetric under rotations by 360/{} deg about its axis, which permute feature labels: "
+          "of the {} equivalent labellings the one placing {} nearest the anchor ({:.1f} mm from it) was chosen "
+          "(rotation {})",
+          sym.order, sym.order, options.anchor_feature, best_d, chosen);
+    } else {
+      for (int k = 1; k < sym.order; ++k)
+        if (less(k, chosen)) chosen = k;
+      message += fmt::format(
+          "; the nominal piece is symmetric under rotations by 360/{} deg about its axis, which permute feature labels: "
+          "of the {} equivalent labellings the one listing features in plan order in the file was chosen (rotation {})",
+          sym.order, sym.order, chosen);
+    }
   }
   const Rigid3 s_chosen = RotationAbout(sym.axis, model.centroid_mm, 2.0 * std::numbers::pi * chosen / sym.order);
 
@@ -611,6 +642,7 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
   out.rms_distance_um = 1e3 * std::sqrt(ss / static_cast<double>(best->labelled));
   out.candidates_scored = candidates_scored;
   out.symmetry_order = sym.order;
+  if (sym.order > 1) out.symmetry_resolved_by = options.anchor_near_mm ? "anchor " + options.anchor_feature : "file order";
   out.message = std::move(message);
   return out;
 }

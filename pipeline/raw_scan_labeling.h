@@ -30,9 +30,11 @@
 //     that permute feature labels (the turning piece: 16 identical holes, order 16), geometry alone
 //     cannot tell H1 from H2. The placements related by the symmetry all fit equally well; the one
 //     chosen is the one whose labels, read in FILE ORDER, come first in the piece's feature order
-//     (a CMM program scans features in plan order, H1 first). RawScanLabeling::symmetry_order says
-//     when this rule was needed; a scan in random point order gets a consistent but arbitrary
-//     choice among the equivalent labellings.
+//     (a CMM program scans features in plan order, H1 first), unless an anchor is given
+//     (RawScanLabelingOptions::anchor_feature near anchor_near_mm: the placement putting that
+//     feature nearest the point). RawScanLabeling::symmetry_order says when this choice was needed
+//     and symmetry_resolved_by how; a scan in random point order without an anchor gets a
+//     consistent but arbitrary choice among the equivalent labellings.
 // Cost: a fixed ~0.3 s (nominal sampling of ~45k points, 432 coarse candidates) plus ~4 us per
 // point, labelled on all cores from 20000 points. Deterministic (no randomness).
 // Failure: kTooFewPoints (fewer than min_points), kNotConverged when the best placement labels
@@ -73,6 +75,12 @@ struct RawScanLabelingOptions {
   // Density of the nominal sampling (part frame): many points per circle and levels so that
   // every scanned point has samples of its feature within a few mm.
   testpieces::ProbingOptions nominal_density = DefaultNominalDensity();
+  // A symmetric piece (the turning piece's 16 holes) has several equivalent labellings. With an
+  // anchor, the one placing feature `anchor_feature` nearest `anchor_near_mm` (scan frame, e.g.
+  // H1's approximate centre) is chosen; without, the one listing features in plan order in the
+  // file (a scanner's file in arbitrary order then gets an arbitrary but consistent H1).
+  std::string anchor_feature;
+  std::optional<Eigen::Vector3d> anchor_near_mm;
 
   static testpieces::ProbingOptions DefaultNominalDensity();
   Status Validate() const;
@@ -97,6 +105,7 @@ struct RawScanLabeling {
   double rms_distance_um = 0.0;  // RMS distance of labelled points to their nominal surface
   int candidates_scored = 0;     // coarse placements scored
   int symmetry_order = 1;        // order of the label-permuting rotational symmetry found (1: none)
+  std::string symmetry_resolved_by;  // "file order" or "anchor <feature>" (empty without symmetry)
   std::string message;           // how the placement was chosen (symmetry rule when applied)
 
   // "5248 points: 5248 labelled (100.0 %), 0 rejected, RMS 12.3 um; S_R 320, B_R 320, ..."

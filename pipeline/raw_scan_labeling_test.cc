@@ -150,18 +150,24 @@ TEST(RawScanLabeling, PointsOffThePieceAreRejected) {
 // other 15 holes. Every point still gets its feature up to that symmetry: the turned faces and
 // the groove exactly, and the points of each physical hole one common hole label, a different
 // one per hole (a rotation of the true labels).
+// The points of `in` (with their normals and labels) in a random order (fixed seed).
+PointSet Shuffled(const PointSet& in, std::uint64_t seed) {
+  std::vector<std::size_t> order(in.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::mt19937_64 rng(seed);
+  std::shuffle(order.begin(), order.end(), rng);
+  PointSet out = in;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    out.xyz_mm[i] = in.xyz_mm[order[i]];
+    out.normal[i] = in.normal[order[i]];
+    out.feature[i] = in.feature[order[i]];
+  }
+  return out;
+}
+
 TEST(RawScanLabeling, ShuffledScanIsLabelledUpToTheHoleSymmetry) {
   const Simulated& s = Scan();
-  std::vector<std::size_t> order(s.scan_datum.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::mt19937_64 rng(17);
-  std::shuffle(order.begin(), order.end(), rng);
-  PointSet shuffled = s.scan_datum;
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    shuffled.xyz_mm[i] = s.scan_datum.xyz_mm[order[i]];
-    shuffled.normal[i] = s.scan_datum.normal[order[i]];
-    shuffled.feature[i] = s.scan_datum.feature[order[i]];
-  }
+  const PointSet shuffled = Shuffled(s.scan_datum, 17);
   PointSet placed = Placed(shuffled, MakeRigid(RotY(2.5) * RotZ(1.1), Eigen::Vector3d(40.0, -70.0, 15.0)));
   auto r = LabelRawScan(s.piece, placed);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
@@ -185,6 +191,42 @@ TEST(RawScanLabeling, ShuffledScanIsLabelledUpToTheHoleSymmetry) {
   for (const auto& [hole, given] : given_for_true_hole) EXPECT_EQ(given.size(), 1u) << hole;
   EXPECT_EQ(hole_labels_given.size(), 16u);  // one distinct hole label per hole
   EXPECT_EQ(hole_labels_given.count(""), 0u);
+}
+
+// The same shuffled scan with an anchor: H1's approximate centre in the scan frame (its true
+// centroid moved by 5 mm, a fraction of the 55 mm between neighbouring holes). Truth: the
+// simulator's labels; every hole point gets its own hole's name, and a wrong anchor name is a
+// clear error.
+TEST(RawScanLabeling, AnchorResolvesTheHoleSymmetryOfAShuffledScan) {
+  const Simulated& s = Scan();
+  const PointSet shuffled = Shuffled(s.scan_datum, 23);
+  const Rigid3 cmm_from_datum = MakeRigid(RotX(0.7) * RotZ(-2.2), Eigen::Vector3d(-25.0, 60.0, 5.0));
+  PointSet placed = Placed(shuffled, cmm_from_datum);
+  Eigen::Vector3d h1 = Eigen::Vector3d::Zero();
+  int m = 0;
+  for (std::size_t i = 0; i < placed.size(); ++i)
+    if (shuffled.feature_names[static_cast<std::size_t>(shuffled.feature[i])] == "H1") h1 += placed.xyz_mm[i], ++m;
+  ASSERT_GT(m, 0);
+  h1 /= m;
+  RawScanLabelingOptions o;
+  o.anchor_feature = "H1";
+  o.anchor_near_mm = h1 + Eigen::Vector3d(3.0, -4.0, 0.0);
+  auto r = LabelRawScan(s.piece, placed, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->symmetry_resolved_by, "anchor H1");
+  std::size_t holes = 0, correct = 0;
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const std::string& truth = shuffled.feature_names[static_cast<std::size_t>(shuffled.feature[i])];
+    if (truth[0] != 'H') continue;
+    ++holes;
+    const int f = r->piece_feature[i];
+    if (f != PointSet::kUnlabelled && s.piece.features[static_cast<std::size_t>(f)].name == truth) ++correct;
+  }
+  EXPECT_GE(static_cast<double>(correct) / static_cast<double>(holes), kMinCorrectFraction) << r->message;
+  o.anchor_feature = "H99";
+  auto bad = LabelRawScan(s.piece, placed, o);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("H99"), std::string::npos) << bad.status().ToString();
 }
 
 // A real scan also covers surfaces the piece does not inspect: here 20 % more points on the top

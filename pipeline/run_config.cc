@@ -58,6 +58,8 @@ Status PipelineConfig::Validate() const {
                   source);
   if (!(figures.position_magnification > 0) || !(figures.profile_magnification > 0))
     return Status(StatusCode::kInvalidArgument, "report magnifications must be > 0", source);
+  if (anchor_feature.empty() != !anchor_near_mm.has_value())
+    return Status(StatusCode::kInvalidArgument, "'raw_scan': anchor_feature and anchor_near_mm go together", source);
   return Status::Ok();
 }
 
@@ -132,6 +134,28 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
                                   "' (expected primary, jackknife_groups, monte_carlo_trials)");
         }
       }
+    } else if (key == "raw_scan") {
+      if (!v.IsMap()) return ParseErrorAt(source, v, "'raw_scan': expected a map");
+      for (const auto& r : v) {
+        const std::string k = r.first.as<std::string>();
+        if (k == "anchor_feature") {
+          auto f = As<std::string>(source, r.second, k, "a feature name");
+          if (!f.ok()) return f.status();
+          c.anchor_feature = *f;
+        } else if (k == "anchor_near_mm") {
+          auto p = As<std::vector<double>>(source, r.second, k, "a list [x, y, z] in mm");
+          if (!p.ok()) return p.status();
+          if (p->empty()) {
+            c.anchor_near_mm.reset();
+          } else if (p->size() == 3) {
+            c.anchor_near_mm = Eigen::Vector3d((*p)[0], (*p)[1], (*p)[2]);
+          } else {
+            return ParseErrorAt(source, r.second, "'anchor_near_mm': expected [x, y, z] (mm) or []");
+          }
+        } else {
+          return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + k + "' (expected anchor_feature, anchor_near_mm)");
+        }
+      }
     } else if (key == "report") {
       if (!v.IsMap()) return ParseErrorAt(source, v, "'report': expected a map");
       for (const auto& r : v) {
@@ -148,7 +172,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
       return ParseErrorAt(source, kv.first,
                           "unknown key '" + key +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
-                              "diagnose, truth, report, out)");
+                              "diagnose, truth, raw_scan, report, out)");
     }
   }
   return c;
@@ -178,6 +202,12 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   e << YAML::EndMap;
   e << YAML::Key << "diagnose" << YAML::Value << c.diagnose;
   e << YAML::Key << "truth" << YAML::Value << c.truth;
+  e << YAML::Key << "raw_scan" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "anchor_feature" << YAML::Value << c.anchor_feature;
+  std::vector<double> near;
+  if (c.anchor_near_mm) near = {c.anchor_near_mm->x(), c.anchor_near_mm->y(), c.anchor_near_mm->z()};
+  e << YAML::Key << "anchor_near_mm" << YAML::Value << YAML::Flow << near;
+  e << YAML::EndMap;
   e << YAML::Key << "report" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "position_magnification" << YAML::Value << c.figures.position_magnification;
   e << YAML::Key << "profile_magnification" << YAML::Value << c.figures.profile_magnification;

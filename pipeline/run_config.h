@@ -13,6 +13,8 @@
 //   uncertainty: {primary: jackknife_points, jackknife_groups: true, monte_carlo_trials: 2000}
 //   diagnose: true                          # gap diagnosis (pipeline/diagnosis.h) against the identified model
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
+//   raw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80, 40]}  # optional: for a raw scan of a
+//                                           #   symmetric piece, the feature nearest this CMM point
 //   report: {position_magnification: 1000, profile_magnification: 10000}
 //   out: out/turning                        # optional output directory (the CLI's --out wins)
 // Unknown keys are errors naming the key and its line.
@@ -43,6 +45,11 @@ struct PipelineConfig {
   int monte_carlo_trials = 2000;
   bool diagnose = true;
   std::string truth;        // "" = none
+  // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
+  // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
+  // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}.
+  std::string anchor_feature;
+  std::optional<Eigen::Vector3d> anchor_near_mm;
   FigureOptions figures;
   std::string out;
 

@@ -76,6 +76,7 @@ std::string RunResultJson(const RunResult& r) {
                                 {"labelled_fraction", l.labelled_fraction},
                                 {"rms_distance_um", l.rms_distance_um},
                                 {"symmetry_order", l.symmetry_order},
+                                {"symmetry_resolved_by", l.symmetry_resolved_by},
                                 {"part_from_cmm", RigidJson(l.part_from_cmm)},
                                 {"points_per_feature", std::move(counts)},
                                 {"message", l.message}};

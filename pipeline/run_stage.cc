@@ -61,7 +61,10 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   std::optional<RawScanLabeling> raw_scan;
   if (!file->points.has_labels()) {  // a raw scan: assign points to nominal features first
     clock.Start("label");
-    auto labelled = LabelIfRawScan(setup->piece, &file->points);
+    RawScanLabelingOptions labelling;
+    labelling.anchor_feature = config.anchor_feature;
+    labelling.anchor_near_mm = config.anchor_near_mm;
+    auto labelled = LabelIfRawScan(setup->piece, &file->points, labelling);
     if (!labelled.ok()) return labelled.status();
     raw_scan = std::move(*labelled);
   }

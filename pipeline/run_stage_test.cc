@@ -313,6 +313,29 @@ TEST(RunStage, ConfigRejectsUnknownKeysWithTheLine) {
   EXPECT_EQ(back->points, ok->points);
   EXPECT_EQ(back->seed, 9u);
   EXPECT_EQ(back->monte_carlo_trials, 0);
+  EXPECT_FALSE(back->anchor_near_mm.has_value());
+}
+
+// raw_scan: {anchor_feature, anchor_near_mm}: read, written back, and checked (both or neither;
+// three coordinates).
+TEST(RunStage, ConfigReadsTheRawScanAnchor) {
+  auto c = ParsePipelineConfig("points: a.csv\nraw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80.5, 40]}\n", "p.yaml");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->anchor_feature, "H1");
+  ASSERT_TRUE(c->anchor_near_mm.has_value());
+  EXPECT_EQ(*c->anchor_near_mm, Eigen::Vector3d(120.0, -80.5, 40.0));
+  EXPECT_TRUE(c->Validate().ok());
+  auto back = ParsePipelineConfig(FormatPipelineConfig(*c), "");
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->anchor_feature, "H1");
+  ASSERT_TRUE(back->anchor_near_mm.has_value());
+  EXPECT_EQ(*back->anchor_near_mm, *c->anchor_near_mm);
+  auto two = ParsePipelineConfig("points: a.csv\nraw_scan:\n  anchor_near_mm: [1, 2]\n", "p.yaml");
+  ASSERT_FALSE(two.ok());
+  EXPECT_EQ(two.status().line(), 3u);
+  auto alone = ParsePipelineConfig("points: a.csv\nraw_scan: {anchor_feature: H1}\n", "p.yaml");
+  ASSERT_TRUE(alone.ok());
+  EXPECT_FALSE(alone->Validate().ok());
 }
 
 }  // namespace
