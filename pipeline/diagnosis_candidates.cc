@@ -70,6 +70,7 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
   {
     MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
     MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
+    MachineSpec x{"linear_straightness", "quadratic to sextic straightness of X, Y, Z", {}};
     const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
     for (const char* s : syms) {
       const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
@@ -79,9 +80,12 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
       c.items.push_back(i2);
       c.items.push_back(i3);
       c.items.push_back(i4);
+      for (int k = 2; k <= 6; ++k)
+        x.items.push_back(std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [" + std::to_string(k) + "]}}");
     }
     specs.push_back(q);
     specs.push_back(c);
+    specs.push_back(x);
   }
   // linear_positioning
   {

@@ -411,6 +411,36 @@ TEST(Diagnosis, CandidateThatMakesBaseFeaturesUnholdableIsJudgedByPress) {
   EXPECT_TRUE(j["candidates"][0].contains("cv_method_reason"));
 }
 
+// Straightness of X on the flank-milled cone: along each section X runs over +-32 mm as C turns,
+// so a straightness table with more wiggles than a quartic can follow (5 nodes, cubic) is fitted
+// better by the 2-to-5-lobe radial error motion of C than by the quartic straightness candidate
+// (the verdict was rotary_error_motion before the sextic candidate). Truth: the straightness
+// effect alone (no base errors, datum placement), noise 0.5 um against a signature of ~30 um;
+// five noise seeds, each must give linear_straightness.
+TEST(Diagnosis, ConeStraightnessBeyondAQuarticIsStillStraightness) {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  ASSERT_TRUE(m.ok());
+  testpieces::PieceConfig c;
+  c.params = testpieces::ConeFrustumParams{};
+  auto piece = testpieces::MakeTestPiece(c, *m);
+  ASSERT_TRUE(piece.ok()) << piece.status().message();
+  auto errors = kinematics::ParseErrorState(
+      "effects:\n  - {linear_error_motion: {symbol: E_YX, positions_mm: [-32.2172, -16.1086, 0, 16.1086, 32.2172], "
+      "values_um: [15.0, -38.0, 52.0, -50.0, 21.0], interpolation: cubic}}\n",
+      "<test>", *m);
+  ASSERT_TRUE(errors.ok()) << errors.status().message();
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    testpieces::PieceSimOptions o;
+    o.noise_um = 0.5;
+    o.seed = seed;
+    auto sim = testpieces::SimulatePiece(*piece, *m, *errors, o);
+    ASSERT_TRUE(sim.ok()) << sim.status().message();
+    auto d = Diagnose(*piece, *m, sim->points);
+    ASSERT_TRUE(d.ok()) << d.status().message();
+    EXPECT_EQ(d->verdict.family, "linear_straightness") << "seed " << seed << "\n" << DiagnosisText(*d);
+  }
+}
+
 // The validation harness on a small fixed-seed run: the targets where observable.
 TEST(Diagnosis, SmallValidationMeetsTargets) {
   const Fixture f = Make();
