@@ -205,6 +205,8 @@ Status DiagnosisOptions::Validate() const {
   if (!(absorbed_tolerance > 0 && absorbed_tolerance < 1))
     return {StatusCode::kInvalidArgument, "diagnosis absorbed_tolerance must be in (0, 1)"};
   if (!(noise_um >= 0)) return {StatusCode::kInvalidArgument, "diagnosis noise_um must be >= 0"};
+  if (!(alias_capture > 0 && alias_capture <= 1))
+    return {StatusCode::kInvalidArgument, "diagnosis alias_capture must be in (0, 1]"};
   if (max_harmonic < 1) return {StatusCode::kInvalidArgument, "diagnosis max_harmonic must be >= 1"};
   if (!(stand_out_z > 0)) return {StatusCode::kInvalidArgument, "diagnosis stand_out_z must be > 0"};
   if (!(holdout_tolerance > 0 && holdout_tolerance < 1))
@@ -538,6 +540,26 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       if (family == best.family || !results[k].significant) continue;
       if (adds_beyond(v, k) > options.alpha) out.verdict.indistinguishable_from.push_back(family);
     }
+  }
+  // On this piece and plan: a family one of whose candidates reproduces most of the verdict's
+  // fitted signature s_v (its projected columns capture >= options.alias_capture of |s_v|^2)
+  // explains the gap about as well, whatever the F-test says at high signal: what still tells
+  // them apart is only the shape each candidate assumes (e.g. a quartic straightness against a
+  // 2-to-5-lobe radial motion along a cone section, where X is a function of C). Such a family
+  // is not offered as the runner-up either.
+  if (!order.empty() && results[order.front()].significant) {
+    const std::size_t v = order.front();
+    const Eigen::VectorXd s_v = bases[v].U * (bases[v].U.transpose() * r0);
+    const double e_v = s_v.squaredNorm();
+    auto& ind = out.verdict.indistinguishable_from;
+    for (std::size_t k = 0; k < results.size() && e_v > 0; ++k) {
+      const std::string& family = results[k].family;
+      if (family == results[v].family || !results[k].observable || std::find(ind.begin(), ind.end(), family) != ind.end())
+        continue;
+      const double captured = (bases[k].U.transpose() * s_v).squaredNorm() / e_v;
+      if (captured >= options.alias_capture) ind.push_back(family);
+    }
+    std::sort(ind.begin(), ind.end());
   }
   // The runner-up: of the best significant candidates of the other families (not
   // indistinguishable from the verdict), the one that adds most beyond base + verdict (smallest

@@ -60,7 +60,8 @@
 // delta BIC. The verdict is the significant candidate with the most pairwise wins (then the
 // smaller cv_rms_after / cv_rms_before); `none` if there is none. Another family is indistinguishable from the verdict
 // when the verdict's columns add nothing significant (same alpha) to a fit that already holds
-// that family's best candidate: the data cannot tell them apart.
+// that family's best candidate (the data cannot tell them apart), or when one of its candidates
+// reproduces >= alias_capture of the verdict's fitted signature (the piece cannot).
 #pragma once
 
 #include <optional>
@@ -84,6 +85,11 @@ struct DiagnosisOptions {
   std::optional<kinematics::ErrorState> reference;
   std::string reference_name = "reference";     // for base_model in the report
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
+  // Another family is also named indistinguishable from the verdict when one of its candidates
+  // reproduces at least this share of the energy of the verdict's fitted signature (on this piece
+  // and plan the two differ only by the shapes their candidates assume). 0.9: the rest is below
+  // a third of the signature's RMS.
+  double alias_capture = 0.9;
   double absorbed_tolerance = 1e-3;   // sine of the principal angle to the base design below which a direction is absorbed
   double noise_um = 0.0;              // known CMM noise sigma (um); 0 = estimated from the residual
   int max_harmonic = 8;               // C harmonics reported per circular profile
