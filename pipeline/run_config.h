@@ -47,7 +47,7 @@ struct PipelineConfig {
   std::string truth;        // "" = none
   // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
   // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
-  // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}.
+  // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}; `tpcal run --anchor H1@x,y,z` overrides it.
   std::string anchor_feature;
   std::optional<Eigen::Vector3d> anchor_near_mm;
   FigureOptions figures;

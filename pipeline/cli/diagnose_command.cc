@@ -1,5 +1,5 @@
 // tpcal diagnose POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--reference ERRORS.yaml|REF_POINTS]
-//                 [--noise-um S] [--json OUT] [--html OUT]
+//                 [--anchor FEATURE@X,Y,Z] [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
 #include <CLI/CLI.hpp>
@@ -16,6 +16,7 @@
 #include "kinematics/errors_yaml.h"
 #include "kinematics/machine_yaml.h"
 #include "pipeline/atomic_file.h"
+#include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/diagnosis.h"
 #include "pipeline/diagnosis_json.h"
@@ -32,6 +33,7 @@ struct DiagnoseArgs {
   std::string testpiece = "turning";
   std::string config;
   std::string machine;
+  std::string anchor;  // FEATURE@X,Y,Z: the symmetric labelling of a raw scan
   std::string reference;
   double noise_um = 0.0;
   double alpha = 0.01;
@@ -119,13 +121,15 @@ int RunValidate(const DiagnoseArgs& args, const Setup& setup) {
 }
 
 int RunDiagnose(const DiagnoseArgs& args) {
+  auto labelling = ParseAnchor(args.anchor);
+  if (!labelling.ok()) return ReportError(labelling.status());
   auto setup = LoadSetup(args);
   if (!setup.ok()) return ReportError(setup.status());
   if (args.validate) return RunValidate(args, *setup);
   if (args.points.empty()) return ReportError(Status(StatusCode::kInvalidArgument, "diagnose: POINTS is required (or --validate)"));
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
-  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);  // a raw scan: label it first
+  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points, *labelling);  // a raw scan: label it first
   if (!labelled.ok()) return ReportError(labelled.status());
   if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
   pipeline::DiagnosisOptions options;
@@ -208,6 +212,7 @@ Command RegisterDiagnose(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--config", args->config, "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME");
   sub->add_option("--machine", args->machine, "machine model YAML (default: nominal ac_table or xyz)");
+  AddAnchorOption(sub, &args->anchor);
   sub->add_option("--reference", args->reference,
                   "the sim instead of the fitted base: machine errors YAML (tpcal.errors/1, .yaml/.yml), not refitted, "
                   "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point");

@@ -1,5 +1,5 @@
-// tpcal fit POINTS [--plan PLAN.yaml | --testpiece NAME [--config TP.yaml] [--machine M.yaml]]
-//           [--type FEATURE=KIND ...] [--criterion ls|mz] [--json OUT]
+// tpcal fit POINTS [--plan PLAN.yaml | --testpiece NAME [--config TP.yaml] [--machine M.yaml]
+//           [--anchor FEATURE@X,Y,Z]] [--type FEATURE=KIND ...] [--criterion ls|mz] [--json OUT]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -13,6 +13,7 @@
 #include "gdt/inspection.h"
 #include "gdt/plan_yaml.h"
 #include "pipeline/atomic_file.h"
+#include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/fit_json.h"
 #include "pipeline/piece_setup.h"
@@ -32,6 +33,7 @@ struct FitArgs {
   std::string testpiece;  // optional: label a raw scan by this piece; its inspection plan by default
   std::string config;
   std::string machine;
+  std::string anchor;  // FEATURE@X,Y,Z: with --testpiece, the symmetric labelling of a raw scan
 };
 
 Result<std::map<std::string, gdt::FeatureKind>> ParseTypes(const std::vector<std::string>& types) {
@@ -69,6 +71,10 @@ void PrintSummary(const gdt::InspectionResult& r) {
 }
 
 int RunFit(const FitArgs& args) {
+  auto labelling = ParseAnchor(args.anchor);
+  if (!labelling.ok()) return ReportError(labelling.status());
+  if (!args.anchor.empty() && args.testpiece.empty())
+    return ReportError(Status(StatusCode::kInvalidArgument, "--anchor needs --testpiece"));
   pipeline::PointReadOptions read_options;
   read_options.threads = args.threads;
   auto points = pipeline::ReadPoints(args.points, read_options);
@@ -83,7 +89,7 @@ int RunFit(const FitArgs& args) {
   if (!args.testpiece.empty()) {
     auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
     if (!setup.ok()) return ReportError(setup.status());
-    auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);
+    auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points, *labelling);
     if (!labelled.ok()) return ReportError(labelled.status());
     if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
     if (args.plan.empty()) plan = setup->piece.inspection;
@@ -165,6 +171,7 @@ Command RegisterFit(CLI::App& app) {
                   "plan is evaluated unless --plan is given: " + names);
   sub->add_option("--config", args->config, "test-piece configuration YAML (schema tpcal.testpiece/1; with --testpiece)");
   sub->add_option("--machine", args->machine, "machine model YAML (with --testpiece; default: nominal ac_table or xyz)");
+  AddAnchorOption(sub, &args->anchor);
   sub->add_option("--threads", args->threads, "parser threads (0 = all cores)")->capture_default_str();
   return {sub, [args] { return RunFit(*args); }};
 }

@@ -1,4 +1,4 @@
-// tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml]
+// tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--anchor FEATURE@X,Y,Z]
 //                [--uncertainty jackknife|analytic|mc|all] [--parameters P,...] [--json OUT]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pipeline/atomic_file.h"
+#include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/identify_json.h"
 #include "pipeline/piece_setup.h"
@@ -23,6 +24,7 @@ struct IdentifyArgs {
   std::string testpiece = "turning";
   std::string config;
   std::string machine;
+  std::string anchor;  // FEATURE@X,Y,Z: the symmetric labelling of a raw scan
   std::string uncertainty = "all";
   std::vector<std::string> parameters;
   int mc_trials = 2000;
@@ -73,11 +75,13 @@ void PrintSummary(const pipeline::IdentificationReport& r) {
 }
 
 int RunIdentify(const IdentifyArgs& args) {
+  auto labelling = ParseAnchor(args.anchor);
+  if (!labelling.ok()) return ReportError(labelling.status());
   auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
   if (!setup.ok()) return ReportError(setup.status());
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());
-  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points);  // a raw scan: label it first
+  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points, *labelling);  // a raw scan: label it first
   if (!labelled.ok()) return ReportError(labelled.status());
   if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
 
@@ -134,6 +138,7 @@ Command RegisterIdentify(CLI::App& app) {
   sub->add_option("--testpiece", args->testpiece, "test piece: " + names)->capture_default_str();
   sub->add_option("--config", args->config, "test-piece configuration YAML (schema tpcal.testpiece/1)");
   sub->add_option("--machine", args->machine, "machine model YAML (default: nominal ac_table or xyz)");
+  AddAnchorOption(sub, &args->anchor);
   sub->add_option("--uncertainty", args->uncertainty,
                   "jackknife (delete one point, and one feature), analytic (Gauss-Newton), mc (GUM S1 Monte "
                   "Carlo) or all (primary: jackknife)")

@@ -1,5 +1,5 @@
 // tpcal run PIPELINE.yaml [--out DIR] ...
-// tpcal run --testpiece turning --points cmm.csv --out DIR [--machine M.yaml] [--seed N]
+// tpcal run --testpiece turning --points cmm.csv --out DIR [--machine M.yaml] [--seed N] [--anchor FEATURE@X,Y,Z]
 // tpcal run [PIPELINE.yaml] --batch DIR_OR_GLOB --out DIR [-j N]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "pipeline/batch.h"
+#include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/run_config.h"
 #include "pipeline/run_output.h"
@@ -29,6 +30,7 @@ struct RunArgs {
   std::string out;
   std::string machine;
   std::string truth;
+  std::string anchor;  // FEATURE@X,Y,Z: overrides raw_scan.anchor_feature / anchor_near_mm
   std::vector<std::string> parameters;
   std::optional<std::uint64_t> seed;
   std::optional<int> mc_trials;
@@ -60,6 +62,12 @@ Result<pipeline::PipelineConfig> BuildConfig(const RunArgs& a, bool batch) {
   if (a.seed) c.seed = *a.seed;
   if (a.mc_trials) c.monte_carlo_trials = *a.mc_trials;
   if (!a.out.empty()) c.out = a.out;
+  if (!a.anchor.empty()) {
+    auto anchor = ParseAnchor(a.anchor);
+    if (!anchor.ok()) return anchor.status();
+    c.anchor_feature = anchor->anchor_feature;
+    c.anchor_near_mm = anchor->anchor_near_mm;
+  }
   if (batch && c.points.empty()) c.points = "(batch)";
   if (Status s = c.Validate(); !s.ok()) return s;
   if (c.out.empty()) return Status(StatusCode::kInvalidArgument, "no output directory: give --out DIR (or 'out' in the pipeline file)");
@@ -173,6 +181,7 @@ Command RegisterRun(CLI::App& app) {
   sub->add_option("--out", args->out, "output directory (replaced atomically; created if missing)");
   sub->add_option("--machine", args->machine, "machine YAML (tpcal.machine/1); default: the piece's nominal machine");
   sub->add_option("--truth", args->truth, "stated truth of a simulated sample (tpcal.sample_truth/1) to mark in the report");
+  AddAnchorOption(sub, &args->anchor);
   sub->add_option("--parameters", args->parameters, "coefficients to identify (default: the piece's standard set)")
       ->delimiter(',');
   sub->add_option("--seed", args->seed, "Monte Carlo seed (default 1), written to every output");
