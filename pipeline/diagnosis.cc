@@ -1,5 +1,6 @@
 #include "pipeline/diagnosis.h"
 
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <fmt/format.h>
 #include <algorithm>
@@ -140,26 +141,56 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   out.B.resize(p, 0);
   if (p == 0) return out;
   const Eigen::VectorXd norms = ColumnNorms(C);
-  const Basis bc = MakeBasis(C, norms, 1e-10, /*relative_to_largest=*/true);
-  if (bc.rank == 0) return out;
-  Eigen::MatrixXd P = bc.U;
-  if (Q.cols() > 0) P -= Q * (Q.transpose() * bc.U);
-  const TallSvdResult svd = TallSvd(P, /*compute_u=*/true);
-  const Eigen::VectorXd& s = svd.sigma;
+  // One n x p buffer and in-place QRs (no n x p U of span(C), no copies: at 2e6 points the
+  // copies' first-touch page faults cost more than the arithmetic).
+  Eigen::MatrixXd W(n, p);
+  auto unit_columns = [&] {
+    for (Eigen::Index j = 0; j < p; ++j)
+      W.col(j) = norms(j) > 0 ? Eigen::VectorXd(C.col(j) / norms(j)) : Eigen::VectorXd::Zero(n);
+  };
+  // 1. span(C): singular values and right vectors of the unit-norm columns C_s = C diag(1/norms).
+  unit_columns();
+  Eigen::VectorXd sc;
+  Eigen::MatrixXd Vc;
+  {
+    const Eigen::Index m = std::min(n, p);
+    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(W);
+    const Eigen::MatrixXd R = W.topRows(m).triangularView<Eigen::Upper>();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
+    sc = svd.singularValues();
+    Vc = svd.matrixV();
+  }
+  int rc = 0;
+  for (Eigen::Index k = 0; k < sc.size(); ++k)
+    if (sc(k) > 1e-10 * sc(0) && sc(k) > 0) ++rc;
+  if (rc == 0) return out;
+  // 2. The orthonormal basis U_c = C_s V_c S_c^-1 of span(C) seen through the complement of
+  // span(Q): P = (I - Q Q^T) U_c = Q_2 M with (I - Q Q^T) C_s = Q_2 R_2 (QR in place) and
+  // M = R_2 V_c S_c^-1 (m x rc). The SVD of M is that of P; its singular values are the sines of
+  // the principal angles between span(C) and span(Q).
+  unit_columns();
+  if (Q.cols() > 0) W.noalias() -= Q * (Q.transpose() * W);
+  const Eigen::Index m = std::min(n, p);
+  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr2(W);
+  Eigen::MatrixXd Vcr = Vc.leftCols(rc);
+  for (int j = 0; j < rc; ++j) Vcr.col(j) /= sc(j);
+  const Eigen::MatrixXd M = W.topRows(m).triangularView<Eigen::Upper>() * Vcr;
+  Eigen::JacobiSVD<Eigen::MatrixXd> msvd(M, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  const Eigen::VectorXd& s = msvd.singularValues();
   int k = 0;
   while (k < s.size() && s(k) > tol) ++k;
   out.rank = k;
   if (k == 0) return out;
-  out.U = svd.U.leftCols(k);
+  out.U = Eigen::MatrixXd::Zero(n, k);
+  out.U.topRows(m) = msvd.matrixU().leftCols(k);
+  out.U.applyOnTheLeft(qr2.householderQ());
   // x_scaled = V_c S_c^-1 (V_p S_p^-1) z; x = x_scaled / norms.
-  Eigen::MatrixXd Vc = bc.V.leftCols(bc.rank);
-  for (int j = 0; j < bc.rank; ++j) Vc.col(j) /= bc.sigma(j);
-  Eigen::MatrixXd Vp = svd.V.leftCols(k);
+  Eigen::MatrixXd Vp = msvd.matrixV().leftCols(k);
   for (int j = 0; j < k; ++j) Vp.col(j) /= s(j);
-  out.B = Vc * Vp;
+  out.B = Vcr * Vp;
   for (Eigen::Index j = 0; j < p; ++j) out.B.row(j) /= (norms(j) > 0 ? norms(j) : 1.0);
   // Identifiable coefficients: e_j in the row space of the determined functionals F = V_p^T S_c V_c^T.
-  Eigen::MatrixXd Ft = bc.V.leftCols(bc.rank) * bc.sigma.head(bc.rank).asDiagonal() * svd.V.leftCols(k);
+  const Eigen::MatrixXd Ft = Vc.leftCols(rc) * sc.head(rc).asDiagonal() * msvd.matrixV().leftCols(k);
   Eigen::JacobiSVD<Eigen::MatrixXd> fsvd(Ft, Eigen::ComputeThinU);
   int fr = 0;
   for (Eigen::Index j = 0; j < fsvd.singularValues().size(); ++j)
