@@ -1,5 +1,7 @@
 #include "core/tall_svd.h"
 
+#include "core/tall_qr.h"
+
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
@@ -15,16 +17,12 @@ TallSvdResult TallSvd(const Eigen::MatrixXd& A, bool compute_u) {
     if (compute_u) out.U = svd.matrixU();
     return out;
   }
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, (compute_u ? Eigen::ComputeFullU : 0) | Eigen::ComputeFullV);
+  Eigen::MatrixXd W = A;
+  const TallQr qr(&W);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(qr.R(), (compute_u ? Eigen::ComputeFullU : 0) | Eigen::ComputeFullV);
   out.sigma = svd.singularValues();
   out.V = svd.matrixV();
-  if (compute_u) {
-    out.U = Eigen::MatrixXd::Zero(n, p);
-    out.U.topRows(p) = svd.matrixU();
-    out.U.applyOnTheLeft(qr.householderQ());
-  }
+  if (compute_u) out.U = qr.ApplyQ(svd.matrixU());
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/parallel.h"
+#include "core/tall_qr.h"
 #include "core/tall_svd.h"
 #include "core/units.h"
 #include "gdt/inspection.h"
@@ -141,7 +142,7 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   out.B.resize(p, 0);
   if (p == 0) return out;
   const Eigen::VectorXd norms = ColumnNorms(C);
-  // One n x p buffer and in-place QRs (no n x p U of span(C), no copies: at 2e6 points the
+  // One n x p buffer and in-place QRs by row blocks (core/tall_qr.h; no n x p U of span(C), no copies: at 2e6 points the
   // copies' first-touch page faults cost more than the arithmetic).
   Eigen::MatrixXd W(n, p);
   auto unit_columns = [&] {
@@ -153,10 +154,8 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   Eigen::VectorXd sc;
   Eigen::MatrixXd Vc;
   {
-    const Eigen::Index m = std::min(n, p);
-    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(W);
-    const Eigen::MatrixXd R = W.topRows(m).triangularView<Eigen::Upper>();
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
+    const TallQr qr(&W);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(qr.R(), Eigen::ComputeFullV);
     sc = svd.singularValues();
     Vc = svd.matrixV();
   }
@@ -170,20 +169,17 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   // the principal angles between span(C) and span(Q).
   unit_columns();
   if (Q.cols() > 0) W.noalias() -= Q * (Q.transpose() * W);
-  const Eigen::Index m = std::min(n, p);
-  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr2(W);
+  const TallQr qr2(&W);
   Eigen::MatrixXd Vcr = Vc.leftCols(rc);
   for (int j = 0; j < rc; ++j) Vcr.col(j) /= sc(j);
-  const Eigen::MatrixXd M = W.topRows(m).triangularView<Eigen::Upper>() * Vcr;
+  const Eigen::MatrixXd M = qr2.R() * Vcr;
   Eigen::JacobiSVD<Eigen::MatrixXd> msvd(M, Eigen::ComputeThinU | Eigen::ComputeFullV);
   const Eigen::VectorXd& s = msvd.singularValues();
   int k = 0;
   while (k < s.size() && s(k) > tol) ++k;
   out.rank = k;
   if (k == 0) return out;
-  out.U = Eigen::MatrixXd::Zero(n, k);
-  out.U.topRows(m) = msvd.matrixU().leftCols(k);
-  out.U.applyOnTheLeft(qr2.householderQ());
+  out.U = qr2.ApplyQ(msvd.matrixU().leftCols(k));
   // x_scaled = V_c S_c^-1 (V_p S_p^-1) z; x = x_scaled / norms.
   Eigen::MatrixXd Vp = msvd.matrixV().leftCols(k);
   for (int j = 0; j < k; ++j) Vp.col(j) /= s(j);

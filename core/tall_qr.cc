@@ -1,0 +1,57 @@
+#include "core/tall_qr.h"
+
+#include <algorithm>
+
+namespace tpcal {
+
+TallQr::TallQr(Eigen::MatrixXd* A) : n_(A->rows()), p_(A->cols()) {
+  // Blocks of kTallQrBlockRows rows (at least 2p, so each R has p rows); the remainder joins the
+  // last block.
+  const Eigen::Index rows = std::max(kTallQrBlockRows, 2 * p_);
+  const Eigen::Index nb = std::max<Eigen::Index>(1, n_ / rows);
+  for (Eigen::Index b = 0; b < nb; ++b) begin_.push_back(b * rows);
+  begin_.push_back(n_);
+  blocks_.reserve(static_cast<std::size_t>(nb));
+  for (Eigen::Index b = 0; b < nb; ++b) {
+    Eigen::Ref<Eigen::MatrixXd> block = A->middleRows(begin_[b], begin_[b + 1] - begin_[b]);
+    blocks_.emplace_back(block);
+  }
+  if (nb == 1) return;
+  // Every block has >= 2p rows, so its R is p x p.
+  stacked_.setZero(nb * p_, p_);
+  for (Eigen::Index b = 0; b < nb; ++b) {
+    stacked_begin_.push_back(b * p_);
+    stacked_.middleRows(b * p_, p_) = blocks_[static_cast<std::size_t>(b)].matrixQR().topRows(p_).triangularView<Eigen::Upper>();
+  }
+  Eigen::Ref<Eigen::MatrixXd> s = stacked_;
+  top_ = std::make_unique<BlockQr>(s);
+}
+
+Eigen::MatrixXd TallQr::R() const {
+  const Eigen::Index m = std::min(n_, p_);
+  const auto& f = top_ ? top_->matrixQR() : blocks_.front().matrixQR();
+  return f.topRows(m).triangularView<Eigen::Upper>();
+}
+
+Eigen::MatrixXd TallQr::ApplyQ(const Eigen::MatrixXd& S) const {
+  const Eigen::Index m = std::min(n_, p_), k = S.cols();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n_, k);
+  if (!top_) {
+    out.topRows(m) = S.topRows(m);
+    out.applyOnTheLeft(blocks_.front().householderQ());
+    return out;
+  }
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(stacked_.rows(), k);
+  Y.topRows(m) = S.topRows(m);
+  Y.applyOnTheLeft(top_->householderQ());
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Eigen::Index r0 = begin_[b], nr = begin_[b + 1] - begin_[b];
+    Eigen::MatrixXd ob = Eigen::MatrixXd::Zero(nr, k);
+    ob.topRows(p_) = Y.middleRows(stacked_begin_[b], p_);
+    ob.applyOnTheLeft(blocks_[b].householderQ());
+    out.middleRows(r0, nr) = ob;
+  }
+  return out;
+}
+
+}  // namespace tpcal
