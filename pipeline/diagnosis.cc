@@ -71,6 +71,22 @@ Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
   return n;
 }
 
+// A candidate's columns (or two candidates' for a joint fit), each n long.
+using Columns = std::vector<Eigen::Map<const Eigen::VectorXd>>;
+Columns ColumnsOf(const CandidateColumns& c) {
+  Columns out;
+  for (Eigen::Index j = 0; j < c.cols(); ++j) out.push_back(c.col(j));
+  return out;
+}
+Eigen::VectorXd ColumnNorms(const Columns& C) {
+  Eigen::VectorXd n(static_cast<Eigen::Index>(C.size()));
+  for (std::size_t j = 0; j < C.size(); ++j) n(static_cast<Eigen::Index>(j)) = C[j].norm();
+  const double largest = n.size() ? n.maxCoeff() : 0.0;
+  for (Eigen::Index j = 0; j < n.size(); ++j)
+    if (n(j) <= kRoundingColumn * largest) n(j) = 0.0;
+  return n;
+}
+
 // Coefficients (original column units) of the least-squares fit of y on the basis' columns,
 // minimum-norm in scaled units, and their analytic standard uncertainties for residual variance s2.
 void Solve(const Basis& b, const Eigen::VectorXd& y, double s2, Eigen::VectorXd* coef, Eigen::VectorXd* u,
@@ -134,9 +150,9 @@ struct Projected {
   int rank = 0;
 };
 
-Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, double tol) {
+Projected ProjectCandidate(const Columns& C, const Eigen::MatrixXd& Q, double tol) {
   Projected out;
-  const Eigen::Index n = C.rows(), p = C.cols();
+  const Eigen::Index n = Q.rows(), p = static_cast<Eigen::Index>(C.size());
   out.identifiable.assign(static_cast<std::size_t>(p), false);
   out.U.resize(n, 0);
   out.B.resize(p, 0);
@@ -147,7 +163,10 @@ Projected ProjectCandidate(const Eigen::MatrixXd& C, const Eigen::MatrixXd& Q, d
   Eigen::MatrixXd W(n, p);
   auto unit_columns = [&] {
     for (Eigen::Index j = 0; j < p; ++j)
-      W.col(j) = norms(j) > 0 ? Eigen::VectorXd(C.col(j) / norms(j)) : Eigen::VectorXd::Zero(n);
+      if (norms(j) > 0)
+        W.col(j) = C[static_cast<std::size_t>(j)] / norms(j);
+      else
+        W.col(j).setZero();
   };
   // 1. span(C): singular values and right vectors of the unit-norm columns C_s = C diag(1/norms).
   unit_columns();
@@ -394,8 +413,9 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     CandidateResult cr;
     cr.family = cc.family;
     cr.name = cc.name;
-    cr.n_columns = static_cast<int>(cc.J_dev_effect.cols());
-    Projected b = ProjectCandidate(cc.J_dev_effect, base.U, options.absorbed_tolerance);
+    cr.n_columns = static_cast<int>(cc.cols());
+    const Columns C = ColumnsOf(cc);
+    Projected b = ProjectCandidate(C, base.U, options.absorbed_tolerance);
     cr.rank = b.rank;
     cr.observable = b.rank > 0;
     cr.press_rms_before_um = press_before;
@@ -416,15 +436,19 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       // feature-CV cannot test the candidate (e.g. an effect acting on one feature only, which is
       // then not holdable): it is judged by its PRESS figure instead, and says so.
       bool reaches = false;
-      const double row_tol =
-          cc.J_dev_effect.size() > 0 ? 1e-12 * std::max(1e-300, cc.J_dev_effect.cwiseAbs().maxCoeff()) : 0.0;
-      for (int g = 0; g < n_features && !reaches && b.rank > 0 && cc.J_dev_effect.size() > 0; ++g) {
+      double largest = 0.0;
+      for (const auto& c : C) largest = std::max(largest, c.size() ? c.cwiseAbs().maxCoeff() : 0.0);
+      const double row_tol = 1e-12 * std::max(1e-300, largest);
+      for (int g = 0; g < n_features && !reaches && b.rank > 0 && !C.empty(); ++g) {
         if (!cv1.holdable[static_cast<std::size_t>(g)]) continue;
-        for (auto i : feature_cv.rows(g))
-          if (cc.J_dev_effect.row(i).cwiseAbs().maxCoeff() > row_tol) {
-            reaches = true;
-            break;
-          }
+        for (auto i : feature_cv.rows(g)) {
+          for (const auto& c : C)
+            if (std::abs(c(i)) > row_tol) {
+              reaches = true;
+              break;
+            }
+          if (reaches) break;
+        }
       }
       // Does the candidate make a feature unholdable that the base model holds out (its columns
       // there are fixed by that feature's points alone, e.g. a straightness polynomial by the
@@ -459,7 +483,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     // Parameters of the effect (joint fit = fit of the residual on the projected columns).
     const double s2 = dof1 > 0 ? ssr1 / dof1 : 0.0;
     const Eigen::VectorXd coef = b.rank > 0 ? Eigen::VectorXd(b.B * (b.U.transpose() * r0))
-                                            : Eigen::VectorXd(Eigen::VectorXd::Zero(cc.J_dev_effect.cols()));
+                                            : Eigen::VectorXd(Eigen::VectorXd::Zero(cc.cols()));
     for (Eigen::Index j = 0; j < coef.size(); ++j) {
       const double u = b.rank > 0 ? std::sqrt(s2 * b.B.row(j).squaredNorm()) : 0.0;
       cr.parameters.push_back({cc.parameter_names[static_cast<std::size_t>(j)], cc.units[static_cast<std::size_t>(j)],
@@ -467,7 +491,8 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     }
     // Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef).
     if (q_fit > 0 && b.rank > 0) {
-      const Eigen::VectorXd effect = cc.J_dev_effect * coef;
+      Eigen::VectorXd effect = Eigen::VectorXd::Zero(n);
+      for (std::size_t j = 0; j < C.size(); ++j) effect += coef(static_cast<Eigen::Index>(j)) * C[j];
       Eigen::VectorXd dcoef, du;
       std::vector<bool> dident;
       Solve(base, effect, 0.0, &dcoef, &du, &dident);
@@ -543,7 +568,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     Eigen::MatrixXd Q(n, base.U.cols() + bases[k].U.cols());
     Q << base.U, bases[k].U;
     const Eigen::VectorXd rk = r0 - bases[k].U * (bases[k].U.transpose() * r0);
-    Projected bj = ProjectCandidate(catalogue->candidates[j].J_dev_effect, Q, options.absorbed_tolerance);
+    Projected bj = ProjectCandidate(ColumnsOf(catalogue->candidates[j]), Q, options.absorbed_tolerance);
     if (bj.rank == 0) return {0.0, 1.0};
     const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
     const double dof = static_cast<double>(n - Q.cols() - bj.rank);
@@ -631,8 +656,8 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
       {
         const auto& cv = catalogue->candidates[v];
         const auto& ck = catalogue->candidates[k];
-        Eigen::MatrixXd C(n, cv.J_dev_effect.cols() + ck.J_dev_effect.cols());
-        C << cv.J_dev_effect, ck.J_dev_effect;
+        Columns C = ColumnsOf(cv);
+        for (const auto& c : ColumnsOf(ck)) C.push_back(c);
         const Projected b = ProjectCandidate(C, base.U, options.absorbed_tolerance);
         PairFit pf;
         pf.families = {results[v].family, results[k].family};

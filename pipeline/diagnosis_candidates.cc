@@ -338,15 +338,19 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
     }
     std::map<std::string, int> col;
     for (std::size_t k = 0; k < lin_names.size(); ++k) col[lin_names[k]] = static_cast<int>(k);
+    std::vector<bool> zero(static_cast<std::size_t>(J_lin.cols()));
+    for (Eigen::Index j = 0; j < J_lin.cols(); ++j) zero[static_cast<std::size_t>(j)] = J_lin.col(j).squaredNorm() <= 1e-20;
+    const auto shared = std::make_shared<const Eigen::MatrixXd>(std::move(J_lin));
+    // Columns that never act on this piece are left out (as DropZeroColumns does).
     auto make = [&](const std::string& family, const std::string& name, const std::vector<std::string>& names) {
-      CandidateColumns c{family, name, Eigen::MatrixXd(n, static_cast<Eigen::Index>(names.size())), {}, {}};
-      for (std::size_t k = 0; k < names.size(); ++k) {
-        const int j = col.at(names[k]);
-        c.J_dev_effect.col(static_cast<Eigen::Index>(k)) = J_lin.col(j);
-        c.parameter_names.push_back(names[k]);
+      CandidateColumns c{family, name, {}, {}, {}, shared, {}};
+      for (const auto& nm : names) {
+        const int j = col.at(nm);
+        if (zero[static_cast<std::size_t>(j)]) continue;
+        c.shared_columns.push_back(j);
+        c.parameter_names.push_back(nm);
         c.units.push_back(combined.coefficient_info(active->coefficients[static_cast<std::size_t>(j)]).unit);
       }
-      DropZeroColumns(&c);
       return c;
     };
     for (const auto& spec : specs) {
@@ -383,7 +387,7 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
     const int per_class = 4;  // xx, yy, zz, xy
     CandidateColumns c{"tool_deflection",
                        "cutting-force deflection: compliance along machine X, Y, Z per cut class, force along the normal",
-                       Eigen::MatrixXd::Zero(n, kNumClasses * per_class), {}, {}};
+                       Eigen::MatrixXd::Zero(n, kNumClasses * per_class), {}, {}, {}, {}};
     for (int k = 0; k < kNumClasses; ++k)
       for (const char* comp : {"xx", "yy", "zz", "xy"}) {
         c.parameter_names.push_back(std::string(class_names[k]) + ".c_" + comp);
@@ -408,10 +412,10 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
   }
   {  // servo_reversal
     CandidateColumns spikes{"servo_reversal", "quadrant glitches at X and Y reversals of circular interpolation",
-                            Eigen::MatrixXd::Zero(n, 2), {"glitch_X", "glitch_Y"}, {"um", "um"}};
+                            Eigen::MatrixXd::Zero(n, 2), {"glitch_X", "glitch_Y"}, {"um", "um"}, {}, {}};
     CandidateColumns lost{"servo_reversal", "quadrant glitches and lost motion (backlash) of X and Y",
                           Eigen::MatrixXd::Zero(n, 4), {"glitch_X", "glitch_Y", "backlash_X", "backlash_Y"},
-                          {"um", "um", "um", "um"}};
+                          {"um", "um", "um", "um"}, {}, {}};
     const double half_width = DegToRad(12.0);
     struct Crossing { double theta; Eigen::Vector3d outward; int axis; };
     const Crossing crossings[4] = {{0.0, Eigen::Vector3d::UnitX(), 0},
@@ -448,9 +452,9 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
       out.not_applicable.push_back({"servo_reversal", "no feature is side-milled on a circle interpolated in machine X-Y"});
   }
   {  // probe_radius
-    CandidateColumns r{"probe_radius", "CMM probe-radius error", Eigen::MatrixXd::Ones(n, 1), {"probe_radius_error"}, {"um"}};
+    CandidateColumns r{"probe_radius", "CMM probe-radius error", Eigen::MatrixXd::Ones(n, 1), {"probe_radius_error"}, {"um"}, {}, {}};
     CandidateColumns rs{"probe_radius", "CMM probe-radius and scale error", Eigen::MatrixXd::Ones(n, 2),
-                        {"probe_radius_error", "scale"}, {"um", "ppm"}};
+                        {"probe_radius_error", "scale"}, {"um", "ppm"}, {}, {}};
     for (Eigen::Index i = 0; i < n; ++i) {
       const auto& o = obs[static_cast<std::size_t>(i)];
       rs.J_dev_effect(i, 1) = 1e-3 * o.cut.nominal_normal.dot(o.cut.nominal_point_mm);  // um per ppm

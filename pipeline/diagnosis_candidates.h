@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 #include <span>
+#include <memory>
 #include <utility>
 #include <string>
 #include <vector>
@@ -41,12 +42,28 @@
 
 namespace tpcal::pipeline {
 
+// A candidate's design columns: n x p, um per unit of each parameter. The machine-error
+// candidates share one matrix of every candidate coefficient (linearised once; nested candidates
+// such as quadratic / quartic / sextic straightness would otherwise copy the same columns, 2 GB at
+// 2e6 points): `shared_columns` of *shared, J_dev_effect empty. The process candidates own theirs.
 struct CandidateColumns {
   std::string family;
   std::string name;
-  Eigen::MatrixXd J_dev_effect;          // n x p, um per unit of each parameter
+  Eigen::MatrixXd J_dev_effect;          // n x p (empty when shared)
   std::vector<std::string> parameter_names;
   std::vector<std::string> units;
+  std::shared_ptr<const Eigen::MatrixXd> shared;
+  std::vector<Eigen::Index> shared_columns;
+
+  Eigen::Index cols() const {
+    return shared ? static_cast<Eigen::Index>(shared_columns.size()) : J_dev_effect.cols();
+  }
+  // Column j (n entries).
+  Eigen::Map<const Eigen::VectorXd> col(Eigen::Index j) const {
+    const Eigen::MatrixXd& m = shared ? *shared : J_dev_effect;
+    const Eigen::Index k = shared ? shared_columns[static_cast<std::size_t>(j)] : j;
+    return {m.col(k).data(), m.rows()};
+  }
 };
 
 struct CandidateCatalogue {
