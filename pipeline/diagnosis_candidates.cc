@@ -195,17 +195,26 @@ Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinem
                                                     " observations for " + std::to_string(n));
   // Chain rule per coefficient (the basis of each term evaluated once per point for all its
   // coefficients), over the points on all cores (each point writes its own row).
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(coefficients.size()));
+  // Not zero-filled here: every column belongs to one term, which writes all its rows (the first
+  // touch of the pages then happens on the worker threads, not serially).
+  Eigen::MatrixXd J(n, static_cast<Eigen::Index>(coefficients.size()));
+  struct Column {
+    Eigen::Index j;              // column of J
+    std::size_t basis;           // index in the term's basis
+    double per_display;          // 1 / display_per_internal
+  };
   struct TermColumns {
     const kinematics::ErrorTerm* term;
-    std::vector<std::size_t> columns;
+    std::vector<Column> columns;
     std::vector<std::pair<int, double>> slot_gain;
   };
   std::map<int, TermColumns> by_term;
   for (std::size_t j = 0; j < coefficients.size(); ++j) {
-    const int t = errors.coefficient_info(coefficients[j]).term;
+    const auto& info = errors.coefficient_info(coefficients[j]);
+    const int t = info.term;
     auto [it, inserted] = by_term.try_emplace(t, TermColumns{&errors.terms()[static_cast<std::size_t>(t)], {}, {}});
-    it->second.columns.push_back(j);
+    it->second.columns.push_back(
+        {static_cast<Eigen::Index>(j), static_cast<std::size_t>(info.index), 1.0 / info.display_per_internal});
     if (!inserted) continue;
     for (const auto& e : it->second.term->effects) {
       const auto at = std::find(design.slots.begin(), design.slots.end(), Slot{e.axis, e.component});
@@ -223,10 +232,9 @@ Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinem
         kinematics::EvaluateTermBasis(*tc.term, obs[ii].cut.axes, &w);
         double v = 0;
         for (const auto& [k, g] : tc.slot_gain) v += g * design.dslot_um(i, k);
-        for (std::size_t j : tc.columns) {
-          const auto& info = errors.coefficient_info(coefficients[j]);
-          const double b = w[static_cast<std::size_t>(info.index)];
-          if (b != 0.0) J(i, static_cast<Eigen::Index>(j)) = b * v / info.display_per_internal;
+        for (const Column& c : tc.columns) {
+          const double b = w[c.basis];
+          J(i, c.j) = b != 0.0 ? b * v * c.per_display : 0.0;
         }
       }
     }
