@@ -33,23 +33,38 @@ Eigen::MatrixXd TallQr::R() const {
   return f.topRows(m).triangularView<Eigen::Upper>();
 }
 
+namespace {
+
+// dst = Q dst for the Householder factorisation `qr`, by the compact WY form (I - V T V^T): two
+// matrix products instead of one memory pass per reflector (Eigen applies reflectors one by one
+// below 48 of them).
+template <typename Qr, typename Dst>
+void ApplyBlockQ(const Qr& qr, Dst& dst) {
+  const Eigen::Index k = qr.hCoeffs().size();
+  if (k == 0) return;
+  Eigen::internal::apply_block_householder_on_the_left(dst, qr.matrixQR().leftCols(k), qr.hCoeffs(), /*forward=*/true);
+}
+
+}  // namespace
+
 Eigen::MatrixXd TallQr::ApplyQ(const Eigen::MatrixXd& S) const {
   const Eigen::Index m = std::min(n_, p_), k = S.cols();
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n_, k);
+  Eigen::MatrixXd out(n_, k);  // every block writes all its rows
   if (!top_) {
+    out.setZero();
     out.topRows(m) = S.topRows(m);
-    out.applyOnTheLeft(blocks_.front().householderQ());
+    ApplyBlockQ(blocks_.front(), out);
     return out;
   }
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(stacked_.rows(), k);
   Y.topRows(m) = S.topRows(m);
-  Y.applyOnTheLeft(top_->householderQ());
+  ApplyBlockQ(*top_, Y);
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     const Eigen::Index r0 = begin_[b], nr = begin_[b + 1] - begin_[b];
-    Eigen::MatrixXd ob = Eigen::MatrixXd::Zero(nr, k);
+    auto ob = out.middleRows(r0, nr);
+    ob.setZero();
     ob.topRows(p_) = Y.middleRows(stacked_begin_[b], p_);
-    ob.applyOnTheLeft(blocks_[b].householderQ());
-    out.middleRows(r0, nr) = ob;
+    ApplyBlockQ(blocks_[b], ob);
   }
   return out;
 }

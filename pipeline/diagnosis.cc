@@ -158,23 +158,31 @@ Projected ProjectCandidate(const Columns& C, const Eigen::MatrixXd& Q, double to
   out.B.resize(p, 0);
   if (p == 0) return out;
   const Eigen::VectorXd norms = ColumnNorms(C);
-  // One n x p buffer and in-place QRs by row blocks (core/tall_qr.h; no n x p U of span(C), no copies: at 2e6 points the
-  // copies' first-touch page faults cost more than the arithmetic).
+  // One n x p buffer and one QR, by row blocks and in place (core/tall_qr.h): at 2e6 points the
+  // first-touch page faults of copies and the passes of a second n x p QR cost more than the rest.
+  // With C_s = C diag(1/norms) (unit-norm columns), X = Q^T C_s and (I - Q Q^T) C_s = Q_2 R_2:
+  // C_s = Q X + Q_2 R_2 with Q^T Q_2 = 0, so the small [X; R_2] has the Gram matrix of C_s, hence
+  // its singular values and right vectors (no QR of C_s itself).
   Eigen::MatrixXd W(n, p);
-  auto unit_columns = [&] {
-    for (Eigen::Index j = 0; j < p; ++j)
-      if (norms(j) > 0)
-        W.col(j) = C[static_cast<std::size_t>(j)] / norms(j);
-      else
-        W.col(j).setZero();
-  };
-  // 1. span(C): singular values and right vectors of the unit-norm columns C_s = C diag(1/norms).
-  unit_columns();
+  for (Eigen::Index j = 0; j < p; ++j)
+    if (norms(j) > 0)
+      W.col(j) = C[static_cast<std::size_t>(j)] / norms(j);
+    else
+      W.col(j).setZero();
+  Eigen::MatrixXd X(Q.cols(), p);
+  if (Q.cols() > 0) {
+    X.noalias() = Q.transpose() * W;
+    W.noalias() -= Q * X;
+  }
+  const TallQr qr2(&W);
+  const Eigen::MatrixXd R2 = qr2.R();
+  // 1. span(C): singular values S_c and right vectors V_c of C_s.
   Eigen::VectorXd sc;
   Eigen::MatrixXd Vc;
   {
-    const TallQr qr(&W);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(qr.R(), Eigen::ComputeFullV);
+    Eigen::MatrixXd S(X.rows() + R2.rows(), p);
+    S << X, R2;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(S, Eigen::ComputeFullV);
     sc = svd.singularValues();
     Vc = svd.matrixV();
   }
@@ -183,15 +191,11 @@ Projected ProjectCandidate(const Columns& C, const Eigen::MatrixXd& Q, double to
     if (sc(k) > 1e-10 * sc(0) && sc(k) > 0) ++rc;
   if (rc == 0) return out;
   // 2. The orthonormal basis U_c = C_s V_c S_c^-1 of span(C) seen through the complement of
-  // span(Q): P = (I - Q Q^T) U_c = Q_2 M with (I - Q Q^T) C_s = Q_2 R_2 (QR in place) and
-  // M = R_2 V_c S_c^-1 (m x rc). The SVD of M is that of P; its singular values are the sines of
-  // the principal angles between span(C) and span(Q).
-  unit_columns();
-  if (Q.cols() > 0) W.noalias() -= Q * (Q.transpose() * W);
-  const TallQr qr2(&W);
+  // span(Q): P = (I - Q Q^T) U_c = Q_2 M with M = R_2 V_c S_c^-1 (m x rc). The SVD of M is that
+  // of P; its singular values are the sines of the principal angles between span(C) and span(Q).
   Eigen::MatrixXd Vcr = Vc.leftCols(rc);
   for (int j = 0; j < rc; ++j) Vcr.col(j) /= sc(j);
-  const Eigen::MatrixXd M = qr2.R() * Vcr;
+  const Eigen::MatrixXd M = R2 * Vcr;
   Eigen::JacobiSVD<Eigen::MatrixXd> msvd(M, Eigen::ComputeThinU | Eigen::ComputeFullV);
   const Eigen::VectorXd& s = msvd.singularValues();
   int k = 0;
