@@ -60,9 +60,17 @@ GroupCvResult GroupCrossValidation::Evaluate(const Eigen::MatrixXd& Q1, const Ei
     const auto& r = rows_[g];
     if (r.empty()) continue;
     const auto ng = static_cast<Eigen::Index>(r.size());
+    // A group whose points are consecutive (a scan stores each feature's points together) is read
+    // in place; otherwise its rows are gathered.
+    const bool contiguous = r.back() - r.front() + 1 == ng;
     Eigen::MatrixXd Qg(ng, p);
-    Qg.leftCols(p0) = Rows(Q0_, r);
-    if (p1 > 0) Qg.rightCols(p1) = Rows(Q1, r);
+    if (contiguous) {
+      Qg.leftCols(p0) = Q0_.middleRows(r.front(), ng);
+      if (p1 > 0) Qg.rightCols(p1) = Q1.middleRows(r.front(), ng);
+    } else {
+      Qg.leftCols(p0) = Rows(Q0_, r);
+      if (p1 > 0) Qg.rightCols(p1) = Rows(Q1, r);
+    }
     // M_G = I - Q_G^T Q_G, with Q0's block from the constructor.
     Eigen::MatrixXd M = -Eigen::MatrixXd::Identity(p, p);
     M.topLeftCorner(p0, p0) += gram0_[g];
@@ -74,7 +82,10 @@ GroupCvResult GroupCrossValidation::Evaluate(const Eigen::MatrixXd& Q1, const Ei
     }
     M = -M;
     Eigen::VectorXd eg(ng);
-    for (Eigen::Index k = 0; k < ng; ++k) eg(k) = residual(r[static_cast<std::size_t>(k)]);
+    if (contiguous)
+      eg = residual.segment(r.front(), ng);
+    else
+      for (Eigen::Index k = 0; k < ng; ++k) eg(k) = residual(r[static_cast<std::size_t>(k)]);
     double lambda_min = 1.0;
     Eigen::VectorXd cv = eg;
     if (p > 0) {
@@ -90,7 +101,10 @@ GroupCvResult GroupCrossValidation::Evaluate(const Eigen::MatrixXd& Q1, const Ei
     out.n_by_group[g] = static_cast<int>(ng);
     if (lambda_min < tolerance_) continue;
     out.holdable[g] = true;
-    for (Eigen::Index k = 0; k < ng; ++k) out.heldout_residual(r[static_cast<std::size_t>(k)]) = cv(k);
+    if (contiguous)
+      out.heldout_residual.segment(r.front(), ng) = cv;
+    else
+      for (Eigen::Index k = 0; k < ng; ++k) out.heldout_residual(r[static_cast<std::size_t>(k)]) = cv(k);
     out.ss_by_group[g] = cv.squaredNorm();
   }
   return out;
