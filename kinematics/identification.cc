@@ -340,8 +340,19 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
   const std::vector<double> scales = DisplayScales(base, active);
 
   // 1. Identifiability at the base errors.
-  auto lin0 = LineariseObservations(model, base, active, observations);
-  if (!lin0.ok()) return lin0.status();
+  Result<LinearDesign> lin0_made = Status(StatusCode::kInternal, "not made");
+  const LinearDesign* lin0 = options.initial_design.get();
+  if (lin0) {
+    if (lin0->J_dev_params.rows() != n || lin0->J_dev_params.cols() != q || lin0->J_dev_alignment.rows() != n ||
+        lin0->measured_dev_um.size() != n || lin0->predicted_dev_um.size() != n)
+      return Status(StatusCode::kInvalidArgument, "identification: the initial design does not match the " +
+                                                      std::to_string(n) + " observations and " + std::to_string(q) +
+                                                      " coefficients");
+  } else {
+    lin0_made = LineariseObservations(model, base, active, observations);
+    if (!lin0_made.ok()) return lin0_made.status();
+    lin0 = &*lin0_made;
+  }
   Eigen::MatrixXd A = lin0->J_dev_params;
   if (options.fit_alignment) {
     const Eigen::MatrixXd Q = NuisanceBasis(lin0->J_dev_alignment);
@@ -385,13 +396,13 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
   std::vector<double> z(static_cast<std::size_t>(rank), 0.0);
   std::vector<double> xi(kNuisance, 0.0);
   JacobianCapture capture;
-  out.jacobian_passes = 1;  // lin0
+  out.jacobian_passes = options.initial_design ? 0 : 1;  // lin0
   {
     ceres::Problem::Options popt;
     popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem problem(popt);
     auto* cost = new PointResiduals(model, base, active, observations, V_r, scales, options.fit_alignment,
-                                    &*lin0, &capture);
+                                    lin0, &capture);
     if (options.fit_alignment) {
       problem.AddResidualBlock(cost, nullptr, z.data(), xi.data());
     } else {
@@ -426,7 +437,8 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     cost->SetCoefficients(z.data(), &out.fitted);
     out.jacobian_passes += cost->jacobian_passes();
   }
-  lin0 = Status(StatusCode::kInternal, "released");  // its memory, before the design at the solution
+  lin0 = nullptr;
+  lin0_made = Status(StatusCode::kInternal, "released");  // its memory, before the design at the solution
   const Eigen::Map<const Eigen::VectorXd> zz(z.data(), rank);
   const Eigen::VectorXd theta = V_r * zz;  // display units
   if (options.fit_alignment) {

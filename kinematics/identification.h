@@ -45,6 +45,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -67,6 +68,8 @@ struct Observation {
   int group = 0;                                          // feature index (delete-one-group jackknife)
 };
 
+struct LinearDesign;
+
 enum class UncertaintyMethod { kAnalytic, kJackknifePoints, kJackknifeGroups, kMonteCarlo, kRandomSubsets };
 const char* UncertaintyMethodName(UncertaintyMethod m);  // "analytic", "jackknife_points", ...
 
@@ -85,6 +88,11 @@ struct IdentifyOptions {
   int random_subset_trials = 0;
   int random_subset_size = 3;
   std::uint64_t seed = 1;          // Monte Carlo and random-subset generator seed
+  // The linearisation of the same observations at `base` when the caller already has it (the
+  // pipeline derives it from the slot design it shares with the diagnosis): what
+  // LineariseObservations(model, base, active, observations) returns. Saves one Jacobian pass;
+  // kInvalidArgument if its size does not match.
+  std::shared_ptr<const LinearDesign> initial_design;
   Status Validate() const;
 };
 

@@ -316,19 +316,30 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   auto candidate_slots = CandidateSlots(piece, machine, errors, base_names, reference_mode);
   if (!candidate_slots.ok()) return candidate_slots.status();
   const std::vector<int> base_coefficients = reference_mode ? std::vector<int>{} : base_active.coefficients;
-  std::optional<SlotDesign> design;
+  std::optional<SlotDesign> made;       // a linearisation made here
+  const SlotDesign* design = nullptr;   // the one in use (made, or the caller's nominal one)
   for (int pass = 0; pass < passes; ++pass) {
     std::vector<Slot> slots = SlotsOf(errors, base_coefficients);
     AddSlots(*candidate_slots, &slots);
-    auto lin = LineariseSlots(machine, errors, slots, obs);
-    if (!lin.ok()) return lin.status();
-    auto J_base = CoefficientColumns(*lin, errors, base_coefficients, obs);
+    const SlotDesign* given = options.nominal_slot_design.get();
+    const bool use_given = pass == 0 && !reference_mode && given && given->dslot_um.rows() == n &&
+                           std::all_of(slots.begin(), slots.end(), [&](const Slot& sl) {
+                             return std::find(given->slots.begin(), given->slots.end(), sl) != given->slots.end();
+                           });
+    if (use_given) {
+      design = given;
+    } else {
+      auto lin = LineariseSlots(machine, errors, slots, obs);
+      if (!lin.ok()) return lin.status();
+      made = std::move(*lin);
+      design = &*made;
+    }
+    auto J_base = CoefficientColumns(*design, errors, base_coefficients, obs);
     if (!J_base.ok()) return J_base.status();
     X0.resize(n, q_fit + 6);
     if (q_fit > 0) X0.leftCols(q_fit) = *J_base;
-    X0.rightCols(6) = lin->lin.J_dev_alignment;
-    y = lin->lin.measured_dev_um - lin->lin.predicted_dev_um;
-    design = std::move(*lin);
+    X0.rightCols(6) = design->lin.J_dev_alignment;
+    y = design->lin.measured_dev_um - design->lin.predicted_dev_um;
     if (point_reference) y -= *reference_dev_um;
     base = MakeBasis(X0, ColumnNorms(X0), kBaseRankTolerance, true);
     const Eigen::VectorXd r0 = y - base.U * (base.U.transpose() * y);
@@ -396,7 +407,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   for (const auto& o : obs) out.point_feature.push_back(mo.feature_names[static_cast<std::size_t>(o.group)]);
 
   // ---- 2. Candidates.
-  auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode, &*design);
+  auto catalogue = BuildCandidates(piece, machine, errors, mo, base_names, reference_mode, design);
   if (!catalogue.ok()) return catalogue.status();
   const double ln_n = std::log(static_cast<double>(n));
   // Per candidate, for the pairwise ranking: feature-CV squared residual per feature and the
@@ -832,6 +843,26 @@ Result<MeasuredObservations> ObservationsForDiagnosis(const testpieces::TestPiec
 }
 
 }  // namespace
+
+Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpieces::TestPiece& piece,
+                                                                 const kinematics::MachineModel& machine,
+                                                                 const DiagnosisOptions& options) {
+  // As DiagnoseImpl's first linearisation (not in reference mode).
+  const std::vector<std::string> base_names =
+      options.base_parameters.empty() ? DefaultParameterSet(piece, machine) : options.base_parameters;
+  kinematics::ErrorState errors(machine);
+  kinematics::ActiveSet active;
+  if (!base_names.empty()) {
+    auto act = kinematics::ActivateParameters(machine, &errors, base_names);
+    if (!act.ok()) return act.status();
+    active = *act;
+  }
+  auto candidate_slots = CandidateSlots(piece, machine, errors, base_names, /*reference_mode=*/false);
+  if (!candidate_slots.ok()) return candidate_slots.status();
+  std::vector<Slot> slots = SlotsOf(errors, active.coefficients);
+  AddSlots(*candidate_slots, &slots);
+  return slots;
+}
 
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine,

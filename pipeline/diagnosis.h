@@ -64,6 +64,7 @@
 // reproduces >= alias_capture of the verdict's fitted signature (the piece cannot).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -76,6 +77,8 @@
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
+
+struct SlotDesign;  // diagnosis_candidates.h
 
 struct DiagnosisOptions {
   std::vector<std::string> base_parameters;     // empty: DefaultParameterSet(piece, machine)
@@ -105,6 +108,11 @@ struct DiagnosisOptions {
   // measured point and its reference point. 1 mm: far above the errors' shift of one probing
   // target between two files (tens of um), far below the plan's point spacing (> 5 mm).
   double reference_match_mm = 1.0;
+  // The slot linearisation of the same observations at the nominal machine (zero errors) when the
+  // caller already made it (tpcal run shares it with the identification; NominalDiagnosisSlots
+  // says which slots it needs). Used for the first linearisation when it holds every slot needed
+  // and the base is not a reference; otherwise the diagnosis makes its own.
+  std::shared_ptr<const SlotDesign> nominal_slot_design;
   Status Validate() const;
 };
 
@@ -225,6 +233,14 @@ struct DiagnosisResult {
   std::vector<double> gap_um;                    // per observation
   std::vector<std::string> point_feature;        // per observation
 };
+
+// The error slots the diagnosis linearises at the nominal machine for `observations`' piece: those
+// of its base set (options.base_parameters, or the piece's default) and of every machine-error
+// candidate (a caller sharing one linearisation passes it as options.nominal_slot_design).
+// Errors: unknown base parameters.
+Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpieces::TestPiece& piece,
+                                                                 const kinematics::MachineModel& machine,
+                                                                 const DiagnosisOptions& options);
 
 // Diagnosis of observations already in the nominal part frame (identify_stage.h).
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,

@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <memory>
 
 #include "kinematics/error_state.h"
+#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis_candidates.h"
 #include "pipeline/file_bytes.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
@@ -88,15 +91,35 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   id_options.jackknife_groups = config.jackknife_groups;
   id_options.monte_carlo_trials = config.monte_carlo_trials;
   id_options.seed = config.seed;
+  DiagnosisOptions d_options;
+  d_options.base_parameters = parameters;
+  if (config.diagnose) {
+    // One slot linearisation at the nominal machine serves the identification's first Jacobian
+    // (by the chain rule to its coefficients) and the diagnosis's base model and candidates: both
+    // would otherwise make a full pass over the points at the same state.
+    auto slots = NominalDiagnosisSlots(setup->piece, setup->machine, d_options);
+    if (!slots.ok()) return slots.status();
+    AddSlots(SlotsOf(base, active->coefficients), &*slots);
+    auto shared = LineariseSlots(setup->machine, base, *slots, obs->observations);
+    if (!shared.ok()) return shared.status().WithLocation(config.points);
+    auto J = CoefficientColumns(*shared, base, active->coefficients, obs->observations);
+    if (!J.ok()) return J.status();
+    auto lin0 = std::make_shared<kinematics::LinearDesign>();
+    lin0->J_dev_params = std::move(*J);
+    lin0->J_dev_alignment = shared->lin.J_dev_alignment;
+    lin0->measured_dev_um = shared->lin.measured_dev_um;
+    lin0->predicted_dev_um = shared->lin.predicted_dev_um;
+    id_options.initial_design = std::move(lin0);
+    d_options.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*shared));
+  }
   auto id = kinematics::Identify(setup->machine, base, *active, obs->observations, id_options);
+  id_options.initial_design.reset();
   if (!id.ok()) return id.status().WithLocation(config.points);
 
   std::optional<DiagnosisResult> diagnosis;
   Status diagnosis_status;
   if (config.diagnose) {
     clock.Start("diagnose");
-    DiagnosisOptions d_options;
-    d_options.base_parameters = parameters;
     auto d = DiagnoseObservations(setup->piece, setup->machine, *obs, d_options);
     if (d.ok())
       diagnosis = std::move(*d);
