@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -472,6 +473,25 @@ TEST(Seed002Relations, IdentifyReusesCeresJacobiansExactly) {
     EXPECT_NEAR(e.value, p.at(e.name == "E_B(0X)Z" ? "beta_ZX" : e.name == "E_A(0Y)Z" ? "alpha_ZY" : e.name), 1e-3)
         << e.name;
   }
+  // The same identification from the caller's linearisation at the base (IdentifyOptions::
+  // initial_design, as the pipeline passes it): the same numbers, one Jacobian pass fewer. Truth:
+  // the run above; tolerance 0 (the same design, the same arithmetic after it).
+  IdentifyOptions given;
+  given.initial_design = std::make_shared<LinearDesign>(*LineariseObservations(m, base, *active, obs));
+  Result<IdentificationResult> id2 = Identify(m, base, *active, obs, given);
+  ASSERT_TRUE(id2.ok()) << id2.status().ToString();
+  EXPECT_EQ(id2->jacobian_passes, id->jacobian_passes - 1);
+  ASSERT_EQ(id2->parameters.size(), id->parameters.size());
+  for (std::size_t k = 0; k < id->parameters.size(); ++k)
+    EXPECT_EQ(id2->parameters[k].value, id->parameters[k].value) << id->parameters[k].name;
+  EXPECT_EQ(id2->residuals_um, id->residuals_um);
+  // A design of other observations is an error, not a silent misfit.
+  IdentifyOptions wrong;
+  std::vector<Observation> fewer(obs.begin(), obs.end() - 1);
+  wrong.initial_design = std::make_shared<LinearDesign>(*LineariseObservations(m, base, *active, fewer));
+  const Result<IdentificationResult> bad = Identify(m, base, *active, obs, wrong);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "gdt/inspection.h"
 #include "kinematics/errors_yaml.h"
+#include "pipeline/diagnosis_candidates.h"
 #include "pipeline/diagnosis_json.h"
 #include "pipeline/diagnosis_validate.h"
 #include "testpieces/probing_plan.h"
@@ -444,6 +446,46 @@ TEST(Diagnosis, ConeStraightnessBeyondAQuarticIsStillStraightness) {
     EXPECT_NE(std::find(ind.begin(), ind.end(), "rotary_error_motion"), ind.end()) << DiagnosisText(*d);
     EXPECT_NE(d->verdict.also, "rotary_error_motion");
   }
+}
+
+// A caller's nominal slot design (tpcal run shares it with the identification) gives the
+// diagnosis it would have made itself: the same slots at the same state, so the same numbers
+// (tolerance 0); one that lacks slots is not used.
+TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_X0C, rate_um_per_h: 6}\n");
+  auto sim = Simulate(f, errors, 0.5, 5);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
+  ASSERT_TRUE(inspection.ok());
+  auto mo = ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+  ASSERT_TRUE(mo.ok()) << mo.status().message();
+  auto own = DiagnoseObservations(f.piece, f.machine, *mo);
+  ASSERT_TRUE(own.ok()) << own.status().message();
+  ASSERT_EQ(own->verdict.family, "thermal_drift") << DiagnosisText(*own);
+  auto slots = NominalDiagnosisSlots(f.piece, f.machine, DiagnosisOptions{});
+  ASSERT_TRUE(slots.ok()) << slots.status().message();
+  auto design = LineariseSlots(f.machine, kinematics::ErrorState(f.machine), *slots, mo->observations);
+  ASSERT_TRUE(design.ok()) << design.status().message();
+  DiagnosisOptions o;
+  o.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*design));
+  auto shared = DiagnoseObservations(f.piece, f.machine, *mo, o);
+  ASSERT_TRUE(shared.ok()) << shared.status().message();
+  EXPECT_EQ(shared->gap_um, own->gap_um);
+  EXPECT_EQ(shared->verdict.family, own->verdict.family);
+  ASSERT_EQ(shared->candidates.size(), own->candidates.size());
+  for (std::size_t k = 0; k < own->candidates.size(); ++k) {
+    EXPECT_EQ(shared->candidates[k].name, own->candidates[k].name);
+    EXPECT_EQ(shared->candidates[k].rms_after_um, own->candidates[k].rms_after_um);
+  }
+  // Without the candidates' slots the design cannot serve: the diagnosis makes its own.
+  auto partial = LineariseSlots(f.machine, kinematics::ErrorState(f.machine),
+                                std::vector<Slot>(slots->begin(), slots->begin() + 2), mo->observations);
+  ASSERT_TRUE(partial.ok());
+  o.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*partial));
+  auto fallback = DiagnoseObservations(f.piece, f.machine, *mo, o);
+  ASSERT_TRUE(fallback.ok()) << fallback.status().message();
+  EXPECT_EQ(fallback->gap_um, own->gap_um);
 }
 
 // The validation harness on a small fixed-seed run: the targets where observable.
