@@ -54,6 +54,17 @@ Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::
   return testpieces::SimulatePiece(f.piece, f.machine, e, o);
 }
 
+// The piece simulated with `errors` (placement random, noise seeded), as observations in the
+// nominal part frame through the datum of its inspection plan.
+Result<MeasuredObservations> SimulatedObservations(const Fixture& f, const kinematics::ErrorState& errors,
+                                                   double noise_um, std::uint64_t seed) {
+  auto sim = Simulate(f, errors, noise_um, seed);
+  if (!sim.ok()) return sim.status();
+  auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
+  if (!inspection.ok()) return inspection.status();
+  return ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+}
+
 // "Where it lies": the C harmonics of each circular profile, the groups by operation and by A
 // index, recomputed here from their definitions on the diagnosis's own gap (truth: the
 // definitions; tolerance 1e-9 um: sums of ~50 terms of ~10 um in another order).
@@ -61,11 +72,7 @@ TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine,
                              "effects:\n  - rotary_error_motion: {symbol: E_XC, harmonics: [{order: 3, cos_um: 3, sin_um: 1}]}\n");
-  auto sim = Simulate(f, errors, 0.5, 21);
-  ASSERT_TRUE(sim.ok()) << sim.status().message();
-  auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
-  ASSERT_TRUE(inspection.ok());
-  auto mo = ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+  auto mo = SimulatedObservations(f, errors, 0.5, 21);
   ASSERT_TRUE(mo.ok()) << mo.status().message();
   auto d = DiagnoseObservations(f.piece, f.machine, *mo);
   ASSERT_TRUE(d.ok()) << d.status().message();
@@ -454,11 +461,7 @@ TEST(Diagnosis, ConeStraightnessBeyondAQuarticIsStillStraightness) {
 TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_X0C, rate_um_per_h: 6}\n");
-  auto sim = Simulate(f, errors, 0.5, 5);
-  ASSERT_TRUE(sim.ok()) << sim.status().message();
-  auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
-  ASSERT_TRUE(inspection.ok());
-  auto mo = ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+  auto mo = SimulatedObservations(f, errors, 0.5, 5);
   ASSERT_TRUE(mo.ok()) << mo.status().message();
   auto own = DiagnoseObservations(f.piece, f.machine, *mo);
   ASSERT_TRUE(own.ok()) << own.status().message();
