@@ -4,10 +4,12 @@
 #include <iostream>
 #include <vector>
 
+#include "core/allocator.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/version.h"
 
 int main(int argc, char** argv) {
+  tpcal::KeepFreedMemoryForReuse();  // dense scans reuse freed blocks (core/allocator.h)
   using namespace tpcal::cli;
   CLI::App app{
       "tpcal " + std::string(tpcal::kVersion) +

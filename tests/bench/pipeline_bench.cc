@@ -23,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/allocator.h"
 #include "pipeline/atomic_file.h"
 #include "pipeline/point_io.h"
 #include "pipeline/run_config.h"
@@ -80,6 +81,7 @@ void PrintTable(const std::string& title, const Timed& t, std::size_t points, do
 }  // namespace
 
 int main(int argc, char** argv) {
+  tpcal::KeepFreedMemoryForReuse();  // as tpcal does (core/allocator.h)
   int reps = 20;
   long dense_points = 2000000;
   std::string cache_dir = fs::temp_directory_path().string();
