@@ -20,7 +20,6 @@ TallQr::TallQr(Eigen::MatrixXd* A) : n_(A->rows()), p_(A->cols()) {
   // Every block has >= 2p rows, so its R is p x p.
   stacked_.setZero(nb * p_, p_);
   for (Eigen::Index b = 0; b < nb; ++b) {
-    stacked_begin_.push_back(b * p_);
     stacked_.middleRows(b * p_, p_) = blocks_[static_cast<std::size_t>(b)].matrixQR().topRows(p_).triangularView<Eigen::Upper>();
   }
   Eigen::Ref<Eigen::MatrixXd> s = stacked_;
@@ -63,7 +62,7 @@ Eigen::MatrixXd TallQr::ApplyQ(const Eigen::MatrixXd& S) const {
     const Eigen::Index r0 = begin_[b], nr = begin_[b + 1] - begin_[b];
     auto ob = out.middleRows(r0, nr);
     ob.setZero();
-    ob.topRows(p_) = Y.middleRows(stacked_begin_[b], p_);
+    ob.topRows(p_) = Y.middleRows(static_cast<Eigen::Index>(b) * p_, p_);  // block b's R rows
     ApplyBlockQ(blocks_[b], ob);
   }
   return out;

@@ -32,8 +32,7 @@ class TallQr {
   Eigen::Index n_ = 0, p_ = 0;
   std::vector<Eigen::Index> begin_;          // first row of each block (blocks_.size() + 1 entries)
   std::vector<BlockQr> blocks_;              // in place on the rows of *A
-  Eigen::MatrixXd stacked_;                  // the blocks' R factors stacked (factored in place)
-  std::vector<Eigen::Index> stacked_begin_;  // first row of each block's R in stacked_
+  Eigen::MatrixXd stacked_;                  // block b's R factor in rows b p ... (factored in place)
   std::unique_ptr<BlockQr> top_;             // QR of stacked_ (absent for a single block)
 };
 

@@ -62,13 +62,16 @@ Basis MakeBasis(const Eigen::MatrixXd& J, const Eigen::VectorXd& norms, double r
 // axis) and gets norm 0 (not fitted, not identifiable): scaled to unit norm it would be a random
 // direction, fitted with coefficients of 1e12 mm.
 constexpr double kRoundingColumn = 1e-10;
-Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
-  Eigen::VectorXd n(J.cols());
-  for (Eigen::Index j = 0; j < J.cols(); ++j) n(j) = J.col(j).norm();
+Eigen::VectorXd ZeroRoundingColumns(Eigen::VectorXd n) {
   const double largest = n.size() ? n.maxCoeff() : 0.0;
   for (Eigen::Index j = 0; j < n.size(); ++j)
     if (n(j) <= kRoundingColumn * largest) n(j) = 0.0;
   return n;
+}
+Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
+  Eigen::VectorXd n(J.cols());
+  for (Eigen::Index j = 0; j < J.cols(); ++j) n(j) = J.col(j).norm();
+  return ZeroRoundingColumns(std::move(n));
 }
 
 // A candidate's columns (or two candidates' for a joint fit), each n long.
@@ -81,10 +84,7 @@ Columns ColumnsOf(const CandidateColumns& c) {
 Eigen::VectorXd ColumnNorms(const Columns& C) {
   Eigen::VectorXd n(static_cast<Eigen::Index>(C.size()));
   for (std::size_t j = 0; j < C.size(); ++j) n(static_cast<Eigen::Index>(j)) = C[j].norm();
-  const double largest = n.size() ? n.maxCoeff() : 0.0;
-  for (Eigen::Index j = 0; j < n.size(); ++j)
-    if (n(j) <= kRoundingColumn * largest) n(j) = 0.0;
-  return n;
+  return ZeroRoundingColumns(std::move(n));
 }
 
 // Coefficients (original column units) of the least-squares fit of y on the basis' columns,
