@@ -44,6 +44,10 @@ std::string Escape(const std::string& s) {
 }  // namespace
 
 std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, std::string>& inputs) {
+  return DiagnosisJsonValue(r, inputs).dump(2) + "\n";
+}
+
+nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::map<std::string, std::string>& inputs) {
   json j;
   j["schema"] = "tpcal.diagnosis/1";
   j["base_model"] = r.base_model;
@@ -145,7 +149,7 @@ std::string DiagnosisJson(const DiagnosisResult& r, const std::map<std::string, 
     for (const auto& [k, val] : inputs) in[k] = val;
     j["inputs"] = in;
   }
-  return j.dump(2) + "\n";
+  return j;
 }
 
 std::string DiagnosisText(const DiagnosisResult& r) {

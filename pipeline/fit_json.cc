@@ -114,7 +114,9 @@ json CharacteristicJson(const gdt::CharacteristicResult& c) {
 
 }  // namespace
 
-std::string FitResultJson(const gdt::InspectionResult& result) {
+std::string FitResultJson(const gdt::InspectionResult& result) { return FitResultJsonValue(result).dump(2) + "\n"; }
+
+nlohmann::ordered_json FitResultJsonValue(const gdt::InspectionResult& result) {
   json j;
   j["schema"] = "tpcal.fit/1";
   j["points_source"] = result.points_source;
@@ -131,8 +133,8 @@ std::string FitResultJson(const gdt::InspectionResult& result) {
   j["features"] = features;
   json chars = json::array();
   for (const auto& c : result.characteristics) chars.push_back(CharacteristicJson(c));
-  j["characteristics"] = chars;
-  return j.dump(2) + "\n";
+  j["characteristics"] = std::move(chars);
+  return j;
 }
 
 }  // namespace tpcal::pipeline

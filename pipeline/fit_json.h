@@ -4,6 +4,7 @@
 // Schema: README.md, "tpcal fit output".
 #pragma once
 
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 #include "gdt/inspection.h"
@@ -12,5 +13,7 @@ namespace tpcal::pipeline {
 
 // Serialises `result`; `criterion` is "ls" or "mz" (the criterion asked for on the CLI).
 std::string FitResultJson(const gdt::InspectionResult& result);
+// The same document as a value (for writers that embed it: no text round trip).
+nlohmann::ordered_json FitResultJsonValue(const gdt::InspectionResult& result);
 
 }  // namespace tpcal::pipeline

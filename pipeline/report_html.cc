@@ -268,6 +268,13 @@ std::string RenderReportHtml(const RunResult& r) {
       "<p class=\"meta\">Machine: {}. Points: {} ({} points, {}, XXH64 {}). tpcal {} ({}), seed {}.</p>\n",
       E(r.machine_name), E(r.config.points), r.num_points, PointFormatName(r.points_info.format), r.points_digest,
       kVersion, kGitRevision, r.config.seed);
+  if (r.scan_cells)
+    h += fmt::format(
+        "<p class=\"meta\">Dense scan: the {} points were pooled into {} scan-line cells (mean {:.1f} points; at "
+        "most {} points, {:g} mm and {:g} deg of any axis each). GD&amp;T used every point; identification and "
+        "diagnosis used one observation per cell, so their point counts, residuals and gaps are per cell.</p>\n",
+        r.scan_cells->num_points, r.scan_cells->num_cells, r.scan_cells->mean_points_per_cell,
+        r.scan_cells->points_per_cell_max, r.scan_cells->max_cell_mm, r.scan_cells->max_cell_deg);
   if (!r.config.truth.empty())
     h += fmt::format("<p class=\"meta\">Simulated sample: stated truth from {} (red marks, truth columns).</p>\n",
                      E(r.config.truth));

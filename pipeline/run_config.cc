@@ -60,6 +60,7 @@ Status PipelineConfig::Validate() const {
     return Status(StatusCode::kInvalidArgument, "report magnifications must be > 0", source);
   if (anchor_feature.empty() != !anchor_near_mm.has_value())
     return Status(StatusCode::kInvalidArgument, "'raw_scan': anchor_feature and anchor_near_mm go together", source);
+  if (Status s = scan_cells.Validate(); !s.ok()) return s.WithLocation(source);
   return Status::Ok();
 }
 
@@ -156,6 +157,24 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
           return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + k + "' (expected anchor_feature, anchor_near_mm)");
         }
       }
+    } else if (key == "scan_cells") {
+      if (!v.IsMap()) return ParseErrorAt(source, v, "'scan_cells': expected a map");
+      for (const auto& r : v) {
+        const std::string k = r.first.as<std::string>();
+        if (k == "above_points" || k == "target_cells") {
+          auto n = As<std::uint64_t>(source, r.second, k, "a non-negative integer");
+          if (!n.ok()) return n.status();
+          (k == "above_points" ? c.scan_cells.above_points : c.scan_cells.target_cells) = *n;
+        } else if (k == "max_cell_mm" || k == "max_cell_deg") {
+          auto d = As<double>(source, r.second, k, "a number");
+          if (!d.ok()) return d.status();
+          (k == "max_cell_mm" ? c.scan_cells.max_cell_mm : c.scan_cells.max_cell_deg) = *d;
+        } else {
+          return ParseErrorAt(source, r.first,
+                              "unknown key 'scan_cells." + k +
+                                  "' (expected above_points, target_cells, max_cell_mm, max_cell_deg)");
+        }
+      }
     } else if (key == "report") {
       if (!v.IsMap()) return ParseErrorAt(source, v, "'report': expected a map");
       for (const auto& r : v) {
@@ -172,7 +191,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
       return ParseErrorAt(source, kv.first,
                           "unknown key '" + key +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
-                              "diagnose, truth, raw_scan, report, out)");
+                              "diagnose, truth, raw_scan, scan_cells, report, out)");
     }
   }
   return c;
@@ -207,6 +226,12 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   std::vector<double> near;
   if (c.anchor_near_mm) near = {c.anchor_near_mm->x(), c.anchor_near_mm->y(), c.anchor_near_mm->z()};
   e << YAML::Key << "anchor_near_mm" << YAML::Value << YAML::Flow << near;
+  e << YAML::EndMap;
+  e << YAML::Key << "scan_cells" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "above_points" << YAML::Value << c.scan_cells.above_points;
+  e << YAML::Key << "target_cells" << YAML::Value << c.scan_cells.target_cells;
+  e << YAML::Key << "max_cell_mm" << YAML::Value << c.scan_cells.max_cell_mm;
+  e << YAML::Key << "max_cell_deg" << YAML::Value << c.scan_cells.max_cell_deg;
   e << YAML::EndMap;
   e << YAML::Key << "report" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "position_magnification" << YAML::Value << c.figures.position_magnification;

@@ -15,6 +15,8 @@
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
 //   raw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80, 40]}  # optional: for a raw scan of a
 //                                           #   symmetric piece, the feature nearest this CMM point
+//   scan_cells: {above_points: 250000, target_cells: 100000, max_cell_mm: 4, max_cell_deg: 2}
+//                                           # dense scans: scan-line cells (pipeline/scan_cells.h)
 //   report: {position_magnification: 1000, profile_magnification: 10000}
 //   out: out/turning                        # optional output directory (the CLI's --out wins)
 // Unknown keys are errors naming the key and its line.
@@ -28,6 +30,7 @@
 #include "core/status.h"
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
+#include "pipeline/scan_cells.h"
 #include "pipeline/svg_figures.h"
 #include "testpieces/test_piece.h"
 
@@ -50,6 +53,9 @@ struct PipelineConfig {
   // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}; `tpcal run --anchor H1@x,y,z` overrides it.
   std::string anchor_feature;
   std::optional<Eigen::Vector3d> anchor_near_mm;
+  // Dense scans: consecutive points of a scan line pooled into cells before identification and
+  // diagnosis (scan_cells.h); above_points: 0 turns it off.
+  ScanCellOptions scan_cells;
   FigureOptions figures;
   std::string out;
 

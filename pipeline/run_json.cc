@@ -57,7 +57,7 @@ std::string RunResultJson(const RunResult& r) {
         {"source_units", r.points_info.source_units == LengthUnit::kMm ? "mm" : "in"}}},
       {"piece", r.piece_name},
       {"machine", r.machine_name},
-      {"inspection", Json::parse(FitResultJson(r.stage.inspection))},
+      {"inspection", FitResultJsonValue(r.stage.inspection)},
       {"identification",
        {{"n_points", id.num_observations},
         {"n_features", id.num_groups},
@@ -66,6 +66,16 @@ std::string RunResultJson(const RunResult& r) {
         {"fit", IdentificationFitJson(id)},
         {"alignment", RigidJson(id.alignment)}}},
       {"figures", std::move(figures)}};
+  if (r.scan_cells) {
+    const ScanCellSummary& c = *r.scan_cells;
+    out["input"]["scan_cells"] = {{"num_points", c.num_points},
+                                  {"num_cells", c.num_cells},
+                                  {"mean_points_per_cell", c.mean_points_per_cell},
+                                  {"max_points_per_cell", c.points_per_cell_max},
+                                  {"max_cell_mm", c.max_cell_mm},
+                                  {"max_cell_deg", c.max_cell_deg},
+                                  {"note", "identification and diagnosis ran on one observation per scan-line cell"}};
+  }
   if (r.raw_scan) {
     const RawScanLabeling& l = *r.raw_scan;
     Json counts = Json::object();
@@ -82,8 +92,8 @@ std::string RunResultJson(const RunResult& r) {
                                 {"message", l.message}};
   }
   if (r.diagnosis) {
-    out["diagnosis"] = Json::parse(DiagnosisJson(
-        *r.diagnosis, {{"points", r.config.points}, {"testpiece", r.config.testpiece}, {"machine", r.machine_name}}));
+    out["diagnosis"] = DiagnosisJsonValue(
+        *r.diagnosis, {{"points", r.config.points}, {"testpiece", r.config.testpiece}, {"machine", r.machine_name}});
   } else if (r.config.diagnose) {
     out["diagnosis"] = {{"error", r.diagnosis_status.ToString()}};
   }

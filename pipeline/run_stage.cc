@@ -80,6 +80,17 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   auto obs = ObservationsFromPoints(setup->piece, file->points, inspection->datum_from_cmm);
   if (!obs.ok()) return obs.status();
 
+  std::optional<ScanCellSummary> scan_cells;
+  if (config.scan_cells.above_points > 0 && obs->observations.size() > config.scan_cells.above_points) {
+    clock.Start("scan cells");
+    auto cells = ReduceToScanCells(*obs, config.scan_cells);
+    if (!cells.ok()) return cells.status().WithLocation(config.source);
+    if (*cells) {
+      scan_cells = Summarise(**cells);
+      *obs = std::move((*cells)->observations);
+    }
+  }
+
   clock.Start("identify");
   std::vector<std::string> parameters =
       config.parameters.empty() ? DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
@@ -145,6 +156,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
               .num_points = num_points_in_file,
               .raw_scan = std::move(raw_scan),
               .points_digest = digest,
+              .scan_cells = scan_cells,
               .stage = IdentifyStageResult{std::move(*inspection), std::move(*obs), parameters, std::move(*id)},
               .diagnosis = std::move(diagnosis),
               .diagnosis_status = diagnosis_status,

@@ -43,6 +43,9 @@ struct RunResult {
   // (RawScanLabeling::labelled is moved into the stage; only the summary is kept here.)
   std::optional<RawScanLabeling> raw_scan;
   std::string points_digest;     // XXH64 of the point file's bytes, 16 hex digits
+  // Set when the scan was pooled into scan-line cells (config.scan_cells): the stage's
+  // observations, the identification and the diagnosis are then per cell.
+  std::optional<ScanCellSummary> scan_cells;
   IdentifyStageResult stage;     // inspection, observations, parameters, identification
   // Gap diagnosis with the identified parameter set as the base model (config.diagnose); when it
   // could not be made (e.g. no residual degrees of freedom) diagnosis_status says why and the

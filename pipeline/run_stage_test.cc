@@ -338,5 +338,53 @@ TEST(RunStage, ConfigReadsTheRawScanAnchor) {
   EXPECT_FALSE(alone->Validate().ok());
 }
 
+// scan_cells: read, validated, written back.
+TEST(RunStage, ConfigReadsScanCells) {
+  auto c = ParsePipelineConfig("points: a.csv\nscan_cells: {above_points: 1000, target_cells: 500, max_cell_mm: 3, "
+                               "max_cell_deg: 1.5}\n", "p.yaml");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->scan_cells.above_points, 1000u);
+  EXPECT_EQ(c->scan_cells.target_cells, 500u);
+  EXPECT_EQ(c->scan_cells.max_cell_mm, 3.0);
+  EXPECT_EQ(c->scan_cells.max_cell_deg, 1.5);
+  auto back = ParsePipelineConfig(FormatPipelineConfig(*c), "");
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->scan_cells.above_points, 1000u);
+  EXPECT_EQ(back->scan_cells.max_cell_deg, 1.5);
+  auto unknown = ParsePipelineConfig("points: a.csv\nscan_cells:\n  cell_mm: 3\n", "p.yaml");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.status().line(), 3u);
+  auto zero = ParsePipelineConfig("points: a.csv\nscan_cells: {max_cell_deg: 0}\n", "p.yaml");
+  ASSERT_TRUE(zero.ok());
+  EXPECT_FALSE(zero->Validate().ok());
+}
+
+// A run whose scan is pooled says so in result.json and in the report. The sample's points are
+// 22.5 deg apart, so no two share a cell: the identification is the unpooled one.
+TEST(RunStage, PooledRunReportsItsCells) {
+  PipelineConfig config = SampleConfig(0);
+  config.scan_cells.above_points = 100;
+  auto r = RunPipeline(config);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_TRUE(r->scan_cells.has_value());
+  EXPECT_EQ(r->scan_cells->num_points, r->num_points);
+  EXPECT_EQ(r->scan_cells->num_cells, r->num_points);
+  auto plain = RunPipeline(SampleConfig(0));
+  ASSERT_TRUE(plain.ok());
+  EXPECT_FALSE(plain->scan_cells.has_value());
+  ASSERT_EQ(plain->stage.identification.parameters.size(), r->stage.identification.parameters.size());
+  for (std::size_t k = 0; k < plain->stage.identification.parameters.size(); ++k)
+    EXPECT_NEAR(plain->stage.identification.parameters[k].value, r->stage.identification.parameters[k].value,
+                1e-9);  // a cell of one is its point rebuilt as p0 + d n0: rounding only
+  const auto files = RenderRunFiles(*r);
+  bool json = false, html = false;
+  for (const auto& f : files) {
+    if (f.relative_path == "result.json") json = f.contents.find("\"scan_cells\"") != std::string::npos;
+    if (f.relative_path == "report.html") html = f.contents.find("scan-line cells") != std::string::npos;
+  }
+  EXPECT_TRUE(json);
+  EXPECT_TRUE(html);
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

@@ -97,6 +97,26 @@ std::optional<Figure> HolePositionsFigure(const gdt::InspectionPlan& plan, const
                 svg.Finish()};
 }
 
+std::vector<gdt::ProfileSample> DrawnProfile(const std::vector<gdt::ProfileSample>& profile, std::size_t bins) {
+  if (profile.size() <= 2 * bins) return profile;
+  std::vector<gdt::ProfileSample> out;
+  out.reserve(2 * bins);
+  std::size_t i = 0;
+  const double start_deg = profile.front().theta_deg;  // sorted by theta, over one turn
+  for (std::size_t b = 0; b < bins && i < profile.size(); ++b) {
+    const double end_deg = start_deg + 360.0 * static_cast<double>(b + 1) / static_cast<double>(bins);
+    std::size_t lo = i, hi = i;
+    for (; i < profile.size() && (profile[i].theta_deg < end_deg || b + 1 == bins); ++i) {
+      if (profile[i].dr_um < profile[lo].dr_um) lo = i;
+      if (profile[i].dr_um > profile[hi].dr_um) hi = i;
+    }
+    if (i == lo) continue;  // empty bin
+    out.push_back(profile[std::min(lo, hi)]);
+    if (hi != lo) out.push_back(profile[std::max(lo, hi)]);
+  }
+  return out;
+}
+
 std::optional<Figure> CircularityFigure(const gdt::InspectionResult& inspection, const FigureOptions& options) {
   std::vector<const gdt::CharacteristicResult*> profiles;
   for (const auto& c : inspection.characteristics)
@@ -133,7 +153,8 @@ std::optional<Figure> CircularityFigure(const gdt::InspectionResult& inspection,
     svg.Line(ox, oy - 118, ox, oy + 118, "grid");
     std::vector<std::pair<double, double>> pts;
     bool clipped = false;
-    for (const auto& p : c.profile) {
+    constexpr std::size_t kDrawnBins = 1440;  // 0.25 deg: finer than the ~600 px of a panel's circle
+    for (const auto& p : DrawnProfile(c.profile, kDrawnBins)) {
       double rr = r0 + p.dr_um * px_per_um;
       if (rr < 2 || rr > 120) { clipped = true; rr = std::clamp(rr, 2.0, 120.0); }
       const double a = p.theta_deg * std::numbers::pi / 180.0;

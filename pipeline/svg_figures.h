@@ -46,6 +46,12 @@ std::optional<Figure> HolePositionsFigure(const gdt::InspectionPlan& plan, const
                                           const FigureOptions& options = {});
 
 // Polar profiles of every circularity characteristic with a profile.
+// A circularity profile (sorted by theta) as drawn: every sample when there are at most 2 x
+// `bins`; for a dense scan, the lowest and the highest sample of each of `bins` equal angle bins,
+// in angle order, so the polygon keeps the profile's envelope (its peak-to-valley) with a few
+// thousand vertices instead of 1e5.
+std::vector<gdt::ProfileSample> DrawnProfile(const std::vector<gdt::ProfileSample>& profile, std::size_t bins);
+
 std::optional<Figure> CircularityFigure(const gdt::InspectionResult& inspection, const FigureOptions& options = {});
 
 // Concentricity and parallelism characteristics as vectors.

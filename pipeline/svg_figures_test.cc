@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 #include "pipeline/svg_writer.h"
 
 namespace tpcal::pipeline {
@@ -76,6 +80,31 @@ TEST(SvgFigures, CircularityProfileIsMagnifiedAboutTheLsCircle) {
   // No fitted feature: reference radius 100 mm drawn at 80 px, so 1 um x 10000 = 10 mm = 8 px:
   // the theta = 0 sample sits at 88 px right of the panel centre (125 + 88 = 213).
   EXPECT_NE(fig->svg.find("213.00,175.00"), std::string::npos) << fig->svg;
+}
+
+// A dense profile (100 000 samples over one turn, a 3-lobe form plus one spike) is drawn with at
+// most 2 vertices per 0.25 deg bin, and the drawn polygon keeps its extremes (peak-to-valley).
+TEST(SvgFigures, DenseProfileIsDrawnByItsEnvelope) {
+  std::vector<gdt::ProfileSample> profile;
+  const int n = 100000;
+  for (int k = 0; k < n; ++k) {
+    const double theta_deg = 360.0 * k / n - 180.0;
+    double dr_um = std::sin(3.0 * theta_deg * std::numbers::pi / 180.0);
+    if (k == 4321) dr_um = 5.0;
+    profile.push_back({theta_deg, dr_um, static_cast<std::size_t>(k)});
+  }
+  const auto drawn = DrawnProfile(profile, 1440);
+  EXPECT_LE(drawn.size(), 2u * 1440u);
+  EXPECT_GE(drawn.size(), 1440u);
+  auto by_dr = [](const gdt::ProfileSample& a, const gdt::ProfileSample& b) { return a.dr_um < b.dr_um; };
+  EXPECT_EQ(std::max_element(drawn.begin(), drawn.end(), by_dr)->dr_um, 5.0);
+  EXPECT_EQ(std::min_element(drawn.begin(), drawn.end(), by_dr)->dr_um,
+            std::min_element(profile.begin(), profile.end(), by_dr)->dr_um);
+  EXPECT_TRUE(std::is_sorted(drawn.begin(), drawn.end(),
+                             [](const auto& a, const auto& b) { return a.theta_deg < b.theta_deg; }));
+  // Few samples: drawn as they are.
+  const std::vector<gdt::ProfileSample> few(profile.begin(), profile.begin() + 100);
+  EXPECT_EQ(DrawnProfile(few, 1440).size(), 100u);
 }
 
 }  // namespace

@@ -146,12 +146,11 @@ Result<kinematics::CutPoint> EvaluatePath(const TestPiece& piece, const NominalF
   kinematics::AxisState rotary = cut.rotary;
   rotary.t_s = best.time_s;
   rotary.op = best.op;
-  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisDelta du_axes, LinearDeltaFor(piece.machine, rotary, best.path_tangent));
-  const Eigen::Matrix3d R = PartFromToolRotation(piece.machine, rotary);
+  TPCAL_ASSIGN_OR_RETURN(const RotaryFrame frame, RotaryFrame::At(piece.machine, rotary));
   kinematics::SweepDirection du, dv;
-  du.axes = du_axes;
-  dv.contact_in_tool_mm = R.transpose() * (cut.end_face ? best.across : a);
-  return MakeCutPoint(piece.machine, p0, n0, best.tip, rotary, du, dv);
+  du.axes = frame.DeltaFor(best.path_tangent);
+  dv.contact_in_tool_mm = frame.part_from_tool_rotation().transpose() * (cut.end_face ? best.across : a);
+  return frame.MakeCut(p0, n0, best.tip, du, dv);
 }
 
 Result<kinematics::CutPoint> EvaluatePlunge(const TestPiece& piece, const NominalFeature& f, const PlungeCut& cut,
@@ -172,12 +171,12 @@ Result<kinematics::CutPoint> EvaluatePlunge(const TestPiece& piece, const Nomina
   rotary.t_s = TimeAtFraction(*move, sigma, *spindle);
   rotary.op = cut.ref.op;
   const Eigen::Vector3d tip = cut.entry_mm - depth * cut.axis;
-  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisDelta du_axes, LinearDeltaFor(piece.machine, rotary, -cut.axis));
-  const Eigen::Matrix3d R = PartFromToolRotation(piece.machine, rotary);
+  TPCAL_ASSIGN_OR_RETURN(const RotaryFrame frame, RotaryFrame::At(piece.machine, rotary));
   kinematics::SweepDirection du, dv;
-  du.axes = du_axes;
-  dv.contact_in_tool_mm = R.transpose() * cut.axis.cross(p0 - tip);  // the cutting edges turning, per rad
-  return MakeCutPoint(piece.machine, p0, n0, tip, rotary, du, dv);
+  du.axes = frame.DeltaFor(-cut.axis);
+  // the cutting edges turning, per rad
+  dv.contact_in_tool_mm = frame.part_from_tool_rotation().transpose() * cut.axis.cross(p0 - tip);
+  return frame.MakeCut(p0, n0, tip, du, dv);
 }
 
 // Tool pose of the cone flank pass at azimuth theta: tip position and rotary state.

@@ -50,6 +50,50 @@ Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machin
   return cut;
 }
 
+Result<RotaryFrame> RotaryFrame::At(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary) {
+  RotaryFrame f;
+  f.rotary_ = RotaryOnly(rotary);
+  f.R_ = PartFromToolRotation(machine, rotary);
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  f.ref0_mm_ = kinematics::NominalToolPointInPart(machine, f.rotary_, zero);
+  Eigen::Matrix3d M;
+  for (int i = 0; i < 3; ++i) {
+    kinematics::AxisState si = f.rotary_;
+    kinematics::SetPosition(&si, kinematics::AxisFromIndex(i), 1.0);
+    M.col(i) = kinematics::NominalToolPointInPart(machine, si, zero) - f.ref0_mm_;
+  }
+  f.lu_.compute(M);
+  if (f.lu_.rank() < 3) return Status(StatusCode::kDegenerate, "inverse kinematics: linear axes do not span space");
+  return f;
+}
+
+kinematics::AxisState RotaryFrame::AxesFor(const Eigen::Vector3d& ref_point_part_mm) const {
+  kinematics::AxisState s = rotary_;
+  const Eigen::Vector3d xyz = lu_.solve(ref_point_part_mm - ref0_mm_);
+  s.x_mm = xyz.x();
+  s.y_mm = xyz.y();
+  s.z_mm = xyz.z();
+  return s;
+}
+
+kinematics::AxisDelta RotaryFrame::DeltaFor(const Eigen::Vector3d& dir_part) const {
+  return Difference(AxesFor(dir_part), AxesFor(Eigen::Vector3d::Zero()), 1.0);
+}
+
+kinematics::CutPoint RotaryFrame::MakeCut(const Eigen::Vector3d& p0, const Eigen::Vector3d& n0,
+                                          const Eigen::Vector3d& ref_point_part_mm,
+                                          const kinematics::SweepDirection& du,
+                                          const kinematics::SweepDirection& dv) const {
+  kinematics::CutPoint cut;
+  cut.contact_in_tool_mm = R_.transpose() * (p0 - ref_point_part_mm);
+  cut.axes = AxesFor(ref_point_part_mm);
+  cut.nominal_point_mm = p0;
+  cut.nominal_normal = n0.normalized();
+  cut.du = du;
+  cut.dv = dv;
+  return cut;
+}
+
 double WrapTwoPi(double a) {
   a = std::fmod(a, 2.0 * kPi);
   if (a < 0) a += 2.0 * kPi;

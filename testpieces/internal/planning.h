@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <string>
 #include <utility>
 
@@ -45,6 +46,29 @@ Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machin
                                           const Eigen::Vector3d& n0, const Eigen::Vector3d& ref_point_part_mm,
                                           const kinematics::AxisState& rotary, const kinematics::SweepDirection& du,
                                           const kinematics::SweepDirection& dv);
+
+// The nominal chain at one rotary state, solved once for every tool reference point and sweep
+// direction needed there (association evaluates several per surface point): the chain is affine
+// in X, Y, Z, p_ref = ref0 + M [x y z]. Same arithmetic as AxesForRefPoint / LinearDeltaFor /
+// MakeCutPoint, so the results are identical.
+class RotaryFrame {
+ public:
+  // Errors: kDegenerate if the linear axes do not span space at `rotary`.
+  static Result<RotaryFrame> At(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary);
+  kinematics::AxisState AxesFor(const Eigen::Vector3d& ref_point_part_mm) const;  // t_s, op of `rotary`
+  kinematics::AxisDelta DeltaFor(const Eigen::Vector3d& dir_part) const;
+  const Eigen::Matrix3d& part_from_tool_rotation() const { return R_; }
+  // MakeCutPoint at this rotary state.
+  kinematics::CutPoint MakeCut(const Eigen::Vector3d& p0, const Eigen::Vector3d& n0,
+                               const Eigen::Vector3d& ref_point_part_mm, const kinematics::SweepDirection& du,
+                               const kinematics::SweepDirection& dv) const;
+
+ private:
+  kinematics::AxisState rotary_;
+  Eigen::Matrix3d R_;
+  Eigen::Vector3d ref0_mm_;
+  Eigen::FullPivLU<Eigen::Matrix3d> lu_;
+};
 
 double WrapTwoPi(double a);
 kinematics::AxisDelta Difference(const kinematics::AxisState& a, const kinematics::AxisState& b, double scale);

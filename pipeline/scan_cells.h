@@ -1,0 +1,70 @@
+// Data reduction of dense scans before identification and diagnosis: consecutive points of one
+// scan line (same feature, same operation, neighbours in space and in cutting time) are pooled
+// into short cells, each replaced by one observation: the cut of the member nearest the cell's
+// centroid, measured at the deviation a straight line fitted to the members' normal deviations
+// (n0 . (m - p0), against the distance along the cell) predicts there.
+//
+// What it keeps: every effect that is smooth over a cell. A cell of length L is a box filter;
+// it attenuates a profile harmonic of wavelength lambda by about (pi L / lambda)^2 / 6 (0.13 %
+// for a 5-lobe profile over a 2 deg cell) and leaves linear trends along the line exact. What it
+// changes: the noise of a cell is the CMM noise over sqrt(its points), and every count, RMS and
+// maximum downstream is per cell. Cells need scan order (a file in the order the CMM took the
+// points); points out of order just form cells of one, so a shuffled file is not reduced.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "core/status.h"
+#include "pipeline/identify_stage.h"
+
+namespace tpcal::pipeline {
+
+struct ScanCellOptions {
+  // Only files with more points than this are reduced (0: never). The 16-points-per-face plans
+  // and dense plans of 1e5 points are identified point by point.
+  std::size_t above_points = 250000;
+  // Points per cell at most; 0 = n / target_cells, rounded up.
+  std::size_t points_per_cell = 0;
+  std::size_t target_cells = 100000;
+  // A cell's extent at most: in space and in every linear axis command (mm), in every rotary axis
+  // command (deg), and in the turn of the surface normal (deg). Machine errors are functions of
+  // the axes: a cell is short where the table turns fast and long where no axis moves much (one
+  // plunge, one generatrix). The normal turn bounds the filtering of the piece's own harmonics:
+  // 10 deg attenuates a first harmonic (an offset hole) by 0.13 %.
+  double max_cell_mm = 4.0;
+  double max_cell_deg = 2.0;
+  double max_normal_turn_deg = 10.0;
+  double max_step_mm = 1.0;       // consecutive points farther apart start a new cell
+  // Consecutive points cut further apart in time, or with another feed direction, or a step back
+  // in cutting time after steps forward (another pass), start a new cell.
+  double max_time_step_s = 10.0;
+  Status Validate() const;
+};
+
+struct ScanCells {
+  MeasuredObservations observations;        // one per cell; point_index: the representative point
+  std::vector<std::uint32_t> cell_points;   // members of each cell
+  std::size_t num_points = 0;               // points before the reduction
+  std::size_t points_per_cell_max = 0;      // the cap used
+  double max_cell_mm = 0.0;
+  double max_cell_deg = 0.0;
+};
+
+// What a run reports of the reduction.
+struct ScanCellSummary {
+  std::size_t num_points = 0;           // observations before
+  std::size_t num_cells = 0;            // observations after
+  std::size_t points_per_cell_max = 0;  // the cap used
+  double max_cell_mm = 0.0;
+  double max_cell_deg = 0.0;
+  double mean_points_per_cell = 0.0;
+};
+ScanCellSummary Summarise(const ScanCells& cells);
+
+// Pools `per_point` (one observation per point, in file order) into scan-line cells. Returns
+// nullopt when the file is not above `options.above_points`. Errors: invalid options.
+Result<std::optional<ScanCells>> ReduceToScanCells(const MeasuredObservations& per_point,
+                                                   const ScanCellOptions& options = {});
+
+}  // namespace tpcal::pipeline
