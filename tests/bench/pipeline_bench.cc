@@ -5,7 +5,8 @@
 //  (b) a dense labelled scan of the same piece (default 2e6 points) simulated from the same stated
 //      truth (generated once into --cache-dir and reused), one run, Monte Carlo off (its cost is
 //      trials x points; see the printed note) and the delete-one-feature jackknife off (it factors
-//      an n_g x n_g matrix per feature).
+//      an n_g x n_g matrix per feature). Above 250 000 points `tpcal run` pools the scan into
+//      scan-line cells (pipeline/scan_cells.h, stage "scan cells"); the table's last line says how.
 // The baseline of each case is the read stage measured in the same run (the I/O floor any tool
 // pays); the table prints each stage as a share of the total and the total as a multiple of it.
 // Targets (issue 7): (a) under 0.5 s, (b) under 5 s on 2 cores.
