@@ -35,7 +35,7 @@ struct ScanCellOptions {
   double max_cell_mm = 4.0;
   double max_cell_deg = 2.0;
   double max_normal_turn_deg = 10.0;
-  double max_step_mm = 1.0;       // consecutive points farther apart start a new cell
+  double max_step_mm = 2.0;       // consecutive points farther apart start a new cell
   // Consecutive points cut further apart in time, or with another feed direction, or a step back
   // in cutting time after steps forward (another pass), start a new cell.
   double max_time_step_s = 10.0;
