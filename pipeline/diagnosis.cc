@@ -269,6 +269,14 @@ namespace {
 
 // The diagnosis; `reference_dev_um` (per observation, or null): the point reference's normal
 // deviations, subtracted from the measured ones (DiagnoseAgainstPoints).
+// The slots one linearisation writes: the base coefficients' and every machine-error candidate's.
+std::vector<Slot> DiagnosisSlotUnion(const kinematics::ErrorState& errors, const std::vector<int>& base_coefficients,
+                                     const std::vector<Slot>& candidate_slots) {
+  std::vector<Slot> slots = SlotsOf(errors, base_coefficients);
+  AddSlots(candidate_slots, &slots);
+  return slots;
+}
+
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                      const MeasuredObservations& mo, const DiagnosisOptions& options,
                                      const Eigen::VectorXd* reference_dev_um) {
@@ -319,8 +327,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   std::optional<SlotDesign> made;       // a linearisation made here
   const SlotDesign* design = nullptr;   // the one in use (made, or the caller's nominal one)
   for (int pass = 0; pass < passes; ++pass) {
-    std::vector<Slot> slots = SlotsOf(errors, base_coefficients);
-    AddSlots(*candidate_slots, &slots);
+    const std::vector<Slot> slots = DiagnosisSlotUnion(errors, base_coefficients, *candidate_slots);
     const SlotDesign* given = options.nominal_slot_design.get();
     const bool use_given = pass == 0 && !reference_mode && given && given->dslot_um.rows() == n &&
                            std::all_of(slots.begin(), slots.end(), [&](const Slot& sl) {
@@ -859,9 +866,7 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
   }
   auto candidate_slots = CandidateSlots(piece, machine, errors, base_names, /*reference_mode=*/false);
   if (!candidate_slots.ok()) return candidate_slots.status();
-  std::vector<Slot> slots = SlotsOf(errors, active.coefficients);
-  AddSlots(*candidate_slots, &slots);
-  return slots;
+  return DiagnosisSlotUnion(errors, active.coefficients, *candidate_slots);
 }
 
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
