@@ -35,6 +35,12 @@ Result<MeasuredObservations> ObservationsFromPoints(const testpieces::TestPiece&
   }
   // The cut of every point, on all cores (each point its own slot); the first failure in file
   // order is reported.
+  std::vector<const testpieces::NominalFeature*> nominal;  // per group, looked up once
+  std::vector<const testpieces::FeatureCut*> cut_of;
+  for (const std::string& name : out.feature_names) {
+    nominal.push_back(piece.Feature(name));
+    cut_of.push_back(piece.Cut(name));
+  }
   out.observations.resize(n);
   out.point_index.resize(n);
   std::vector<std::size_t> first_failure;
@@ -42,9 +48,10 @@ Result<MeasuredObservations> ObservationsFromPoints(const testpieces::TestPiece&
   std::mutex failure_mutex;
   ParallelChunks(n, 4096, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const std::string& name = out.feature_names[static_cast<std::size_t>(group[i])];
+      const auto g = static_cast<std::size_t>(group[i]);
       const Eigen::Vector3d p_datum = datum_from_cmm * measured.xyz_mm[i];
-      auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
+      auto cut = cut_of[g] ? testpieces::CutPointAtDatum(piece, *nominal[g], *cut_of[g], p_datum)
+                           : testpieces::CutPointAtDatum(piece, out.feature_names[g], p_datum);  // its error
       if (!cut.ok()) {
         std::lock_guard<std::mutex> lock(failure_mutex);
         first_failure.push_back(i);

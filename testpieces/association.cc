@@ -289,4 +289,9 @@ Result<kinematics::CutPoint> CutPointAtDatum(const TestPiece& piece, const std::
   return CutPointAt(piece, feature, piece.part_from_datum * p_datum_mm);
 }
 
+Result<kinematics::CutPoint> CutPointAtDatum(const TestPiece& piece, const NominalFeature& feature,
+                                             const FeatureCut& cut, const Eigen::Vector3d& p_datum_mm) {
+  return internal::EvaluateCut(piece, feature, cut.model, piece.part_from_datum * p_datum_mm);
+}
+
 }  // namespace tpcal::testpieces

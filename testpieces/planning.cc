@@ -53,9 +53,10 @@ Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machin
 Result<RotaryFrame> RotaryFrame::At(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary) {
   RotaryFrame f;
   f.rotary_ = RotaryOnly(rotary);
-  f.R_ = PartFromToolRotation(machine, rotary);
+  const Rigid3 part_from_tool = kinematics::NominalPartFromTool(machine, f.rotary_);
+  f.R_ = part_from_tool.rotation();
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  f.ref0_mm_ = kinematics::NominalToolPointInPart(machine, f.rotary_, zero);
+  f.ref0_mm_ = part_from_tool * zero;  // what NominalToolPointInPart(machine, rotary, 0) returns
   Eigen::Matrix3d M;
   for (int i = 0; i < 3; ++i) {
     kinematics::AxisState si = f.rotary_;

@@ -88,6 +88,10 @@ Result<kinematics::CutPoint> CutPointAt(const TestPiece& piece, const std::strin
 // The same for a point in the nominal datum frame (a measured point after datum alignment).
 Result<kinematics::CutPoint> CutPointAtDatum(const TestPiece& piece, const std::string& feature,
                                              const Eigen::Vector3d& p_datum_mm);
+// The same with the feature and its cut already looked up (piece.Feature, piece.Cut; both of
+// `piece`): for associating many points of one feature.
+Result<kinematics::CutPoint> CutPointAtDatum(const TestPiece& piece, const NominalFeature& feature,
+                                             const FeatureCut& cut, const Eigen::Vector3d& p_datum_mm);
 
 // True if the two models have the same nominal geometry (type, chain, pivots, motion signs), so
 // a piece planned on one can be simulated on the other.
