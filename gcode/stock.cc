@@ -172,18 +172,23 @@ Result<StockEnvelope> ConeStock(const testpieces::TestPiece& piece) {
   StockEnvelope env;
   env.solids.push_back(Prism("base plate", Square(0.5 * p.base_size_mm), 0.0, p.base_thickness_mm));
   if (piece.features.empty()) return Status(StatusCode::kInvalidArgument, "cone stock: no cone feature");
-  const NominalFeature& f = piece.features.front();
-  StockPrimitive cone;
-  cone.kind = StockPrimitive::Kind::kFrustum;
-  cone.name = "cone frustum";
-  cone.origin_mm = f.origin_mm;
-  cone.axis = f.axis;
-  cone.radius_mm = f.radius_mm;
-  cone.half_angle_rad = f.half_angle_rad;
-  // The tilted cone starts below the base top on one side: extend it into the plate.
-  cone.h_min_mm = -f.radius_mm * std::tan(std::acos(std::clamp(f.axis.z(), -1.0, 1.0))) - 1.0;
-  cone.h_max_mm = p.height_mm;
-  env.solids.push_back(cone);
+  // The cone, and the second cone of the enriched piece (its first section CONE2_1).
+  std::vector<const NominalFeature*> cones{&piece.features.front()};
+  if (const NominalFeature* second = piece.Feature("CONE2_1")) cones.push_back(second);
+  for (const NominalFeature* fp : cones) {
+    const NominalFeature& f = *fp;
+    StockPrimitive cone;
+    cone.kind = StockPrimitive::Kind::kFrustum;
+    cone.name = cones.size() > 1 && fp != cones.front() ? "second cone frustum" : "cone frustum";
+    cone.origin_mm = f.origin_mm;
+    cone.axis = f.axis;
+    cone.radius_mm = f.radius_mm;
+    cone.half_angle_rad = f.half_angle_rad;
+    // The tilted cone starts below the base top on one side: extend it into the plate.
+    cone.h_min_mm = -f.radius_mm * std::tan(std::acos(std::clamp(f.axis.z(), -1.0, 1.0))) - 1.0;
+    cone.h_max_mm = p.height_mm;
+    env.solids.push_back(cone);
+  }
   Bounds(&env);
   return env;
 }

@@ -138,14 +138,10 @@ TopoDS_Shape FaceMillingSolid(const FaceMillingPieceParams& p) {
                "box");
 }
 
-TopoDS_Shape ConeSolid(const TestPiece& piece, const ConeFrustumParams& p) {
-  const NominalFeature* cone = piece.Feature("CONE_1");
-  if (!cone) throw Standard_Failure("cone feature missing");
+// One cone frustum standing on the base top, from its first section's feature.
+TopoDS_Shape ConeOf(const NominalFeature& cone_feature, const ConeFrustumParams& p) {
+  const NominalFeature* cone = &cone_feature;
   const double t = p.base_thickness_mm;
-  TopoDS_Shape base = Check(
-      BRepPrimAPI_MakeBox(gp_Pnt(-0.5 * p.base_size_mm, -0.5 * p.base_size_mm, 0.0), p.base_size_mm, p.base_size_mm, t)
-          .Shape(),
-      "base");
   // Extend the cone below the base top far enough that its bottom circle lies inside the base.
   const double a = cone->half_angle_rad;
   const double tau = std::acos(std::clamp(cone->axis.z(), -1.0, 1.0));
@@ -156,8 +152,20 @@ TopoDS_Shape ConeSolid(const TestPiece& piece, const ConeFrustumParams& p) {
   const Eigen::Vector3d o = cone->origin_mm - e * cone->axis;
   gp_Ax2 ax(P(o), gp_Dir(cone->axis.x(), cone->axis.y(), cone->axis.z()),
             gp_Dir(cone->ref_dir.x(), cone->ref_dir.y(), cone->ref_dir.z()));
-  TopoDS_Shape c = Check(BRepPrimAPI_MakeCone(ax, r_bottom, r_top, e + p.height_mm).Shape(), "cone");
-  return Fuse(base, c);
+  return Check(BRepPrimAPI_MakeCone(ax, r_bottom, r_top, e + p.height_mm).Shape(), "cone");
+}
+
+TopoDS_Shape ConeSolid(const TestPiece& piece, const ConeFrustumParams& p) {
+  const NominalFeature* cone = piece.Feature("CONE_1");
+  if (!cone) throw Standard_Failure("cone feature missing");
+  const double t = p.base_thickness_mm;
+  TopoDS_Shape s = Check(
+      BRepPrimAPI_MakeBox(gp_Pnt(-0.5 * p.base_size_mm, -0.5 * p.base_size_mm, 0.0), p.base_size_mm, p.base_size_mm, t)
+          .Shape(),
+      "base");
+  s = Fuse(s, ConeOf(*cone, p));
+  if (const NominalFeature* second = piece.Feature("CONE2_1")) s = Fuse(s, ConeOf(*second, p));
+  return s;
 }
 
 TopoDS_Shape BuildSolid(const TestPiece& piece) {

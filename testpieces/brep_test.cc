@@ -38,6 +38,12 @@ std::vector<NamedConfig> AllPieces() {
   PieceConfig cone;
   cone.params = ConeFrustumParams{};
   out.push_back({"cone", cone});
+  PieceConfig two_cones;  // samples/testpieces/cone_frustum_enriched.yaml's geometry
+  ConeFrustumParams tc;
+  tc.base_size_mm = 380;
+  tc.second_cone_offset_mm = 130;
+  two_cones.params = tc;
+  out.push_back({"cone_two_cones", two_cones});
   return out;
 }
 

@@ -40,6 +40,17 @@ Status ConeFrustumParams::Validate() const {
   if (!(bottom_diameter_mm + 2 * end_mill_diameter_mm < base_size_mm)) {
     return BadCone("base_size_mm", base_size_mm, "the tool must stay over the base plate");
   }
+  if (!(std::isfinite(second_cone_offset_mm) && second_cone_offset_mm >= 0))
+    return BadCone("second_cone.offset_mm", second_cone_offset_mm, "must be 0 (one cone) or positive");
+  if (second_cone_offset_mm > 0) {
+    if (!(second_cone_offset_mm > bottom_diameter_mm + 2 * end_mill_diameter_mm))
+      return BadCone("second_cone.offset_mm", second_cone_offset_mm,
+                     "the two cones and the tool between them must not overlap (> bottom diameter + 2 tool diameters)");
+    if (!(2 * (second_cone_offset_mm + 0.5 * bottom_diameter_mm + end_mill_diameter_mm) < base_size_mm))
+      return BadCone("base_size_mm", base_size_mm,
+                     "the tool must stay over the base plate around the second cone (> 2 (offset + bottom radius + "
+                     "tool diameter))");
+  }
   return Status::Ok();
 }
 
@@ -121,83 +132,96 @@ Result<TestPiece> BuildConeFrustumPiece(const PieceConfig& config, const kinemat
   spindle.mode = SpindleMode::kMilling;
   spindle.speed_rpm = p.cutting_speed_m_per_min * 1000.0 / (kPi * p.end_mill_diameter_mm);
   const double feed = p.feed_per_tooth_mm * p.end_mill_teeth * spindle.speed_rpm;
-  program.BeginOperation("cone flank", "NAS 979 / ISO 10791-7 cone frustum: one simultaneous five-axis flank pass, "
-                                       "tool axis along the generatrix, climb (CW about the cone axis)", tool);
-  program.BeginPass("flank", spindle, {"CONE_1", "CONE_2", "CONE_3"});
-
-  // Poses every 2 pi / steps, CW (climb around an island), from theta = 0.
-  FlankMillCut cut;
-  cut.steps = p.path_steps;
-  cut.theta_start_rad = 0.0;
-  cut.counter_clockwise = false;
-  cut.tool_radius_mm = rt;
-  cut.h_tip_mm = h_tip;
-  cut.negative_tilt = true;
-  const double h_mid = 0.5 * (h_tip + p.height_mm);
-  std::vector<kinematics::AxisState> poses;
-  kinematics::AxisState previous;
-  for (int k = 0; k <= p.path_steps; ++k) {
-    const double th = -2 * kPi * k / p.path_steps;
-    const double alpha = cone.half_angle_rad;
-    const Eigen::Vector3d er = std::cos(th) * cone.ref_dir + std::sin(th) * cone.v_dir();
-    const Eigen::Vector3d g = std::cos(alpha) * cone.axis - std::sin(alpha) * er;
-    const SurfaceCoords at_tip{th, h_tip};
-    const Eigen::Vector3d tip = PointAt(cone, at_tip) + rt * NormalAt(cone, at_tip);
-    TPCAL_ASSIGN_OR_RETURN(const std::vector<kinematics::AxisState> sols,
-                           kinematics::RotaryAnglesForToolAxis(machine, g, k == 0 ? 0.0 : previous.c_rad));
-    const kinematics::AxisState* chosen = nullptr;
-    for (const auto& s : sols) {
-      if (s.a_rad + s.b_rad <= 0) chosen = &s;
+  // One simultaneous five-axis flank pass around `cone` (its own operation), sections named
+  // `prefix`1 .. `prefix`k.
+  auto cut_cone = [&](const NominalFeature& cone, const std::string& prefix, const std::string& op_name) -> Status {
+    std::vector<std::string> section_names;
+    for (int s = 0; s < kSections; ++s) section_names.push_back(prefix + std::to_string(s + 1));
+    program.BeginOperation(op_name, "NAS 979 / ISO 10791-7 cone frustum: one simultaneous five-axis flank pass, "
+                                    "tool axis along the generatrix, climb (CW about the cone axis)", tool);
+    program.BeginPass("flank", spindle, section_names);
+    // Poses every 2 pi / steps, CW (climb around an island), from theta = 0.
+    FlankMillCut cut;
+    cut.steps = p.path_steps;
+    cut.theta_start_rad = 0.0;
+    cut.counter_clockwise = false;
+    cut.tool_radius_mm = rt;
+    cut.h_tip_mm = h_tip;
+    cut.negative_tilt = true;
+    const double h_mid = 0.5 * (h_tip + p.height_mm);
+    std::vector<kinematics::AxisState> poses;
+    kinematics::AxisState previous;
+    for (int k = 0; k <= p.path_steps; ++k) {
+      const double th = -2 * kPi * k / p.path_steps;
+      const double alpha = cone.half_angle_rad;
+      const Eigen::Vector3d er = std::cos(th) * cone.ref_dir + std::sin(th) * cone.v_dir();
+      const Eigen::Vector3d g = std::cos(alpha) * cone.axis - std::sin(alpha) * er;
+      const SurfaceCoords at_tip{th, h_tip};
+      const Eigen::Vector3d tip = PointAt(cone, at_tip) + rt * NormalAt(cone, at_tip);
+      TPCAL_ASSIGN_OR_RETURN(const std::vector<kinematics::AxisState> sols,
+                             kinematics::RotaryAnglesForToolAxis(machine, g, k == 0 ? 0.0 : previous.c_rad));
+      const kinematics::AxisState* chosen = nullptr;
+      for (const auto& s : sols) {
+        if (s.a_rad + s.b_rad <= 0) chosen = &s;
+      }
+      if (!chosen) return Status(StatusCode::kInvalidArgument, "cone_frustum: no rotary solution with A (B) <= 0");
+      kinematics::AxisState rot = *chosen;
+      if (k > 0) rot.c_rad = previous.c_rad + std::remainder(rot.c_rad - previous.c_rad, 2 * kPi);
+      TPCAL_ASSIGN_OR_RETURN(kinematics::AxisState axes, AxesForRefPoint(machine, tip, rot, true));
+      previous = axes;
+      poses.push_back(axes);
     }
-    if (!chosen) return Status(StatusCode::kInvalidArgument, "cone_frustum: no rotary solution with A (B) <= 0");
-    kinematics::AxisState rot = *chosen;
-    if (k > 0) rot.c_rad = previous.c_rad + std::remainder(rot.c_rad - previous.c_rad, 2 * kPi);
-    TPCAL_ASSIGN_OR_RETURN(kinematics::AxisState axes, AxesForRefPoint(machine, tip, rot, true));
-    previous = axes;
-    poses.push_back(axes);
-  }
-  // Approach: above the start pose, then down along the tool axis, then the pass.
-  {
-    kinematics::AxisState above = poses.front();
-    above.z_mm = z_safe;
-    kinematics::AxisState up = program.state();
-    up.z_mm = z_safe;
-    program.Rapid(up);
-    program.Rapid(above);
-    program.Linear(poses.front(), 0.5 * feed, false);
-  }
-  for (int k = 1; k <= p.path_steps; ++k) {
-    // Feed of the contact point at the middle of the band.
-    const double th0 = -2 * kPi * (k - 1) / p.path_steps, th1 = -2 * kPi * k / p.path_steps;
-    const double length = (PointAt(cone, {th1, h_mid}) - PointAt(cone, {th0, h_mid})).norm();
-    program.Linear(poses[k], feed, true, length);
-    if (k == 1) cut.ref = {program.current_operation(), program.current_pass_index(), program.last_move_index()};
-  }
-  {
-    kinematics::AxisState up = program.state();
-    up.z_mm = z_safe;
-    program.Rapid(up);
+    // Approach: above the start pose, then down along the tool axis, then the pass.
+    {
+      kinematics::AxisState above = poses.front();
+      above.z_mm = z_safe;
+      kinematics::AxisState up = program.state();
+      up.z_mm = z_safe;
+      program.Rapid(up);
+      program.Rapid(above);
+      program.Linear(poses.front(), 0.5 * feed, false);
+    }
+    for (int k = 1; k <= p.path_steps; ++k) {
+      // Feed of the contact point at the middle of the band.
+      const double th0 = -2 * kPi * (k - 1) / p.path_steps, th1 = -2 * kPi * k / p.path_steps;
+      const double length = (PointAt(cone, {th1, h_mid}) - PointAt(cone, {th0, h_mid})).norm();
+      program.Linear(poses[k], feed, true, length);
+      if (k == 1) cut.ref = {program.current_operation(), program.current_pass_index(), program.last_move_index()};
+    }
+    {
+      kinematics::AxisState up = program.state();
+      up.z_mm = z_safe;
+      program.Rapid(up);
+    }
+
+    // Sections: three bands of the machined flank, each probed on its middle circle.
+    const double step = (band_hi - band_lo) / kSections;
+    for (int s = 0; s < kSections; ++s) {
+      NominalFeature f = cone;
+      f.name = section_names[static_cast<std::size_t>(s)];
+      f.h_min_mm = band_lo - p.probe_band_margin_mm * (s == 0) + s * step;
+      f.h_max_mm = band_lo + (s + 1) * step + p.probe_band_margin_mm * (s == kSections - 1);
+      f.design_levels_mm = {band_lo + (s + 0.5) * step};
+      f.fixed_levels = true;
+      f.level_min_mm = f.h_min_mm;
+      f.level_max_mm = f.h_max_mm;
+      std::ostringstream os;
+      os << "cone flank section " << s + 1 << (prefix == "CONE_" ? "" : " of the second cone") << " (cone height "
+         << f.design_levels_mm[0] << " mm), five-axis flank milling";
+      f.description = os.str();
+      piece.features.push_back(f);
+      piece.cuts.push_back({f.name, cut});
+    }
+    return Status::Ok();
+  };
+  TPCAL_RETURN_IF_ERROR(cut_cone(cone, "CONE_", "cone flank"));
+  if (p.second_cone_offset_mm > 0) {
+    NominalFeature second = cone;
+    second.origin_mm.x() += p.second_cone_offset_mm;
+    TPCAL_RETURN_IF_ERROR(cut_cone(second, "CONE2_", "second cone flank"));
   }
   piece.operations = program.Finish();
 
-  // Sections: three bands of the machined flank, each probed on its middle circle.
-  const double step = (band_hi - band_lo) / kSections;
-  for (int s = 0; s < kSections; ++s) {
-    NominalFeature f = cone;
-    f.name = "CONE_" + std::to_string(s + 1);
-    f.h_min_mm = band_lo - p.probe_band_margin_mm * (s == 0) + s * step;
-    f.h_max_mm = band_lo + (s + 1) * step + p.probe_band_margin_mm * (s == kSections - 1);
-    f.design_levels_mm = {band_lo + (s + 0.5) * step};
-    f.fixed_levels = true;
-    f.level_min_mm = f.h_min_mm;
-    f.level_max_mm = f.h_max_mm;
-    std::ostringstream os;
-    os << "cone flank section " << s + 1 << " (cone height " << f.design_levels_mm[0]
-       << " mm), five-axis flank milling";
-    f.description = os.str();
-    piece.features.push_back(f);
-    piece.cuts.push_back({f.name, cut});
-  }
   // Datum (ConeFrustumPlan's `targets` frame): +Z along the axis of the CONE_1 section toward
   // CONE_3, origin at its centre, +X toward its first probed point (azimuth 0, along ref_dir):
   // a cone of revolution does not fix the azimuth, the probing order does.

@@ -78,6 +78,11 @@ struct FaceMillingPieceParams {
 // toward +X, standing on a base plate, its flank finished in one simultaneous five-axis pass of
 // an end mill whose axis follows the generatrix. Features CONE_1 .. CONE_k: probing circles at
 // the cone heights (in the cone's own frame), the `k` set by the probing density.
+// Enrichment (`second_cone_offset_mm` > 0): a second, identical cone this far along +X from the
+// first, cut by its own flank pass (features CONE2_1 .. CONE2_k). Along one pass X, Y and C move
+// as functions of each other, so a function of X (straightness) and a function of C (rotary error
+// motion, angular positioning) differ only by their assumed shapes; on the offset cone X(C) is
+// another function, which separates them.
 struct ConeFrustumParams {
   std::string name = "NAS 979 cone frustum";
   double base_size_mm = 160.0;       // square plate, stock
@@ -95,6 +100,7 @@ struct ConeFrustumParams {
   double probe_band_margin_mm = 2.0; // probing circles kept this far inside the machined band
   // Rapid (retract) height above the cone top: the tilted tool must clear the cone at every A/C.
   double safe_clearance_mm = 60.0;
+  double second_cone_offset_mm = 0.0;  // 0: one cone (NAS 979); > 0: see above
 
   Status Validate() const;
 };

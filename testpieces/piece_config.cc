@@ -143,6 +143,7 @@ Table<ConeFrustumParams> ConeTable() {
       {"path_steps", &T::path_steps},
       {"probe_band_margin_mm", &T::probe_band_margin_mm},
       {"safe_clearance_mm", &T::safe_clearance_mm},
+      {"second_cone.offset_mm", &T::second_cone_offset_mm},
   };
 }
 

@@ -102,7 +102,7 @@ TEST(PieceConfig, SampleFilesParseAndMatchTheDefaults) {
   ASSERT_TRUE(turning.ok()) << turning.status().ToString();
   EXPECT_EQ(FormatPieceConfig(*turning), FormatPieceConfig(PieceConfig{}));
   for (const char* f : {"turning_enriched.yaml", "iso10791_m1_160.yaml", "iso10791_m1_320.yaml", "iso10791_m2.yaml",
-                        "cone_frustum.yaml"}) {
+                        "cone_frustum.yaml", "cone_frustum_enriched.yaml"}) {
     auto c = LoadPieceConfig(dir + f);
     EXPECT_TRUE(c.ok()) << f << ": " << c.status().ToString();
   }

@@ -55,7 +55,8 @@ struct Setup {
   testpieces::TestPiece piece;
 };
 
-// NAME: turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, or a piece config file.
+// NAME: turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, cone_frustum_enriched,
+// or a piece config file.
 Result<Setup> LoadSetup(const DiagnoseArgs& a) {
   Result<testpieces::PieceConfig> config = Status(StatusCode::kInvalidArgument, "no test piece");
   if (!a.config.empty()) {
@@ -70,6 +71,16 @@ Result<Setup> LoadSetup(const DiagnoseArgs& a) {
     c.probing.levels_per_face = 3;
     c.probing.levels_per_hole = 2;
     config = c;
+  } else if (a.testpiece == "cone_frustum_enriched") {
+    // samples/testpieces/cone_frustum_enriched.yaml
+    testpieces::ConeFrustumParams p;
+    p.name = "NAS 979 cone frustum, enriched (second cone 130 mm along +X, 48 points per section)";
+    p.base_size_mm = 380;
+    p.second_cone_offset_mm = 130;
+    testpieces::PieceConfig c;
+    c.params = p;
+    c.probing.points_per_circle = 48;
+    config = c;
   } else {
     std::string kind = a.testpiece;
     if (kind == "iso10791_m1_160" || kind == "iso10791_m1_320") kind = "iso10791_m1";
@@ -77,7 +88,8 @@ Result<Setup> LoadSetup(const DiagnoseArgs& a) {
     if (!config.ok())
       return Status(StatusCode::kInvalidArgument,
                     "--testpiece " + a.testpiece +
-                        ": expected turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum (or --config FILE)");
+                        ": expected turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, "
+                        "cone_frustum_enriched (or --config FILE)");
   }
   if (!config.ok()) return config.status();
   Result<kinematics::MachineModel> machine = Status(StatusCode::kInvalidArgument, "no machine");
@@ -208,7 +220,7 @@ Command RegisterDiagnose(CLI::App& app) {
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   sub->add_option("POINTS", args->points, "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm)");
   sub->add_option("--testpiece", args->testpiece,
-                  "turning (default), turning_enriched, iso10791_m1, iso10791_m2, cone_frustum")
+                  "turning (default), turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, cone_frustum_enriched")
       ->capture_default_str();
   sub->add_option("--config", args->config, "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME");
   sub->add_option("--machine", args->machine, "machine model YAML (default: nominal ac_table or xyz)");
