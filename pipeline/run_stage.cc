@@ -53,12 +53,17 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   clock.Start("read");
   PointReadOptions read;
   read.threads = options.read_threads;
-  auto file = ReadPointFile(config.points, read);
-  if (!file.ok()) return file.status();
+  // The file's bytes are read once: hashed for the digest, and parsed from memory when the
+  // format is text (PLY and PCD go through PCL's own readers).
   auto bytes = ReadFileBytes(config.points);
   if (!bytes.ok()) return bytes.status();
   const std::string digest = fmt::format("{:016x}", Xxh64(bytes->view()));
+  const PointFormat format = read.format == PointFormat::kAuto ? PointFormatFromExtension(config.points) : read.format;
+  auto file = format == PointFormat::kCsv   ? ParsePointCsv(bytes->view(), config.points, read)
+              : format == PointFormat::kXyz ? ParsePointXyz(bytes->view(), config.points, read)
+                                            : ReadPointFile(config.points, read);
   bytes->data.reset();
+  if (!file.ok()) return file.status();
 
   const std::size_t num_points_in_file = file->points.size();
   std::optional<RawScanLabeling> raw_scan;
