@@ -28,26 +28,16 @@ Result<kinematics::AxisState> AxesForRefPoint(const kinematics::MachineModel& ma
 
 Result<kinematics::AxisDelta> LinearDeltaFor(const kinematics::MachineModel& machine,
                                              const kinematics::AxisState& rotary, const Eigen::Vector3d& dir_part) {
-  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState a0, AxesForRefPoint(machine, Eigen::Vector3d::Zero(), rotary));
-  TPCAL_ASSIGN_OR_RETURN(const kinematics::AxisState a1, AxesForRefPoint(machine, dir_part, rotary));
-  return Difference(a1, a0, 1.0);
+  TPCAL_ASSIGN_OR_RETURN(const RotaryFrame frame, RotaryFrame::At(machine, rotary));
+  return frame.DeltaFor(dir_part);
 }
 
 Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machine, const Eigen::Vector3d& p0,
                                           const Eigen::Vector3d& n0, const Eigen::Vector3d& ref_point_part_mm,
                                           const kinematics::AxisState& rotary, const kinematics::SweepDirection& du,
                                           const kinematics::SweepDirection& dv) {
-  kinematics::CutPoint cut;
-  const Eigen::Matrix3d R = PartFromToolRotation(machine, rotary);
-  cut.contact_in_tool_mm = R.transpose() * (p0 - ref_point_part_mm);
-  TPCAL_ASSIGN_OR_RETURN(cut.axes, AxesForRefPoint(machine, ref_point_part_mm, rotary));
-  cut.axes.t_s = rotary.t_s;
-  cut.axes.op = rotary.op;
-  cut.nominal_point_mm = p0;
-  cut.nominal_normal = n0.normalized();
-  cut.du = du;
-  cut.dv = dv;
-  return cut;
+  TPCAL_ASSIGN_OR_RETURN(const RotaryFrame frame, RotaryFrame::At(machine, rotary));
+  return frame.MakeCut(p0, n0, ref_point_part_mm, du, dv);
 }
 
 Result<RotaryFrame> RotaryFrame::At(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary) {
