@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "kinematics/machine_yaml.h"
+#include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 
 namespace tpcal::pipeline {
@@ -247,20 +248,18 @@ Result<RunPiece> LoadRunPiece(const std::string& testpiece, const std::string& m
   if (testpiece.ends_with(".yaml") || testpiece.ends_with(".yml")) {
     config = testpieces::LoadPieceConfig(testpiece);
   } else {
-    config = testpieces::ParsePieceConfig("piece: " + testpiece + "\n", "--testpiece");
-    if (!config.ok())
-      return Status(StatusCode::kInvalidArgument,
-                    "unknown test piece '" + testpiece +
-                        "' (expected turning, iso10791_m1, iso10791_m2, cone_frustum or a tpcal.testpiece/1 file)");
+    auto named = testpieces::NamedPieceConfig(testpiece);
+    if (!named.ok())
+      return Status(StatusCode::kInvalidArgument, "unknown test piece '" + testpiece + "' (expected one of: " +
+                                                      testpieces::PieceNameList() + ", or a tpcal.testpiece/1 file)");
+    config = std::move(named->config);
   }
   if (!config.ok()) return config.status();
   Result<kinematics::MachineModel> machine = Status(StatusCode::kInternal, "unset");
   if (!machine_path.empty()) {
     machine = kinematics::LoadMachineModel(machine_path);
   } else {
-    const auto kind = testpieces::KindOf(config->params);
-    const bool needs_ac = kind == testpieces::PieceKind::kTurning || kind == testpieces::PieceKind::kConeFrustum;
-    machine = kinematics::MakeMachine(needs_ac ? kinematics::MachineType::kAcTable : kinematics::MachineType::kXyz);
+    machine = kinematics::MakeMachine(testpieces::UsualMachine(*config));
   }
   if (!machine.ok()) return machine.status();
   auto piece = testpieces::MakeTestPiece(*config, *machine);

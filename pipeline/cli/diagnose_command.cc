@@ -23,6 +23,7 @@
 #include "pipeline/diagnosis_validate.h"
 #include "pipeline/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
+#include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 
 namespace tpcal::cli {
@@ -48,6 +49,7 @@ struct DiagnoseArgs {
   std::string markdown;
   bool raw_peak = false;
   bool no_placement = false;
+  bool testpiece_given = false;  // --testpiece was on the command line (not the default)
 };
 
 struct Setup {
@@ -55,50 +57,23 @@ struct Setup {
   testpieces::TestPiece piece;
 };
 
-// NAME: turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, cone_frustum_enriched,
-// or a piece config file.
-Result<Setup> LoadSetup(const DiagnoseArgs& a) {
-  Result<testpieces::PieceConfig> config = Status(StatusCode::kInvalidArgument, "no test piece");
+// NAME (testpieces/named_pieces.h) or a piece config file; with both, the file must be for the
+// named piece (testpiece_given: --testpiece was on the command line, not the default).
+Result<Setup> LoadSetup(const DiagnoseArgs& a, bool testpiece_given) {
+  auto named = testpieces::NamedPieceConfig(a.testpiece);
+  if (!named.ok()) return Status(StatusCode::kInvalidArgument, "--testpiece: " + named.status().message() + " (or --config FILE)");
+  Result<testpieces::PieceConfig> config = named->config;
   if (!a.config.empty()) {
     config = testpieces::LoadPieceConfig(a.config);
-  } else if (a.testpiece == "turning_enriched") {
-    testpieces::TurningPieceParams p;
-    p.groove_inner_wall_pass = true;
-    p.name = "seed 002 turning piece, enriched (inner groove wall cut CW, 3 levels x 32 points per face)";
-    testpieces::PieceConfig c;
-    c.params = p;
-    c.probing.points_per_circle = 32;
-    c.probing.levels_per_face = 3;
-    c.probing.levels_per_hole = 2;
-    config = c;
-  } else if (a.testpiece == "cone_frustum_enriched") {
-    // samples/testpieces/cone_frustum_enriched.yaml
-    testpieces::ConeFrustumParams p;
-    p.name = "NAS 979 cone frustum, enriched (second cone 130 mm along +X, 48 points per section)";
-    p.base_size_mm = 380;
-    p.second_cone_offset_mm = 130;
-    testpieces::PieceConfig c;
-    c.params = p;
-    c.probing.points_per_circle = 48;
-    config = c;
-  } else {
-    std::string kind = a.testpiece;
-    if (kind == "iso10791_m1_160" || kind == "iso10791_m1_320") kind = "iso10791_m1";
-    config = testpieces::ParsePieceConfig("piece: " + kind + "\n", "--testpiece " + a.testpiece);
-    if (!config.ok())
-      return Status(StatusCode::kInvalidArgument,
-                    "--testpiece " + a.testpiece +
-                        ": expected turning, turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, "
-                        "cone_frustum_enriched (or --config FILE)");
+    if (config.ok() && testpiece_given)
+      if (Status s = testpieces::CheckConfigMatchesName(*config, *named, a.testpiece, a.config); !s.ok()) return s;
   }
   if (!config.ok()) return config.status();
   Result<kinematics::MachineModel> machine = Status(StatusCode::kInvalidArgument, "no machine");
   if (!a.machine.empty()) {
     machine = kinematics::LoadMachineModel(a.machine);
   } else {
-    const auto kind = testpieces::KindOf(config->params);
-    const bool table = kind == testpieces::PieceKind::kTurning || kind == testpieces::PieceKind::kConeFrustum;
-    machine = kinematics::MakeMachine(table ? kinematics::MachineType::kAcTable : kinematics::MachineType::kXyz);
+    machine = kinematics::MakeMachine(testpieces::UsualMachine(*config));
   }
   if (!machine.ok()) return machine.status();
   auto piece = testpieces::MakeTestPiece(*config, *machine);
@@ -135,7 +110,7 @@ int RunValidate(const DiagnoseArgs& args, const Setup& setup) {
 int RunDiagnose(const DiagnoseArgs& args) {
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
-  auto setup = LoadSetup(args);
+  auto setup = LoadSetup(args, args.testpiece_given);
   if (!setup.ok()) return ReportError(setup.status());
   if (args.validate) return RunValidate(args, *setup);
   if (args.points.empty()) return ReportError(Status(StatusCode::kInvalidArgument, "diagnose: POINTS is required (or --validate)"));
@@ -219,10 +194,12 @@ Command RegisterDiagnose(CLI::App& app) {
       "position (within 1 mm, else the point is skipped); only the re-alignment is fitted.\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   sub->add_option("POINTS", args->points, "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm)");
-  sub->add_option("--testpiece", args->testpiece,
-                  "turning (default), turning_enriched, iso10791_m1, iso10791_m2, cone_frustum, cone_frustum_enriched")
-      ->capture_default_str();
-  sub->add_option("--config", args->config, "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME");
+  CLI::Option* testpiece =
+      sub->add_option("--testpiece", args->testpiece,
+                      "test piece: " + testpieces::PieceNameList() + " (iso10791_m1 = iso10791_m1_320)")
+          ->capture_default_str();
+  sub->add_option("--config", args->config,
+                  "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME's (with --testpiece: the same piece)");
   sub->add_option("--machine", args->machine, "machine model YAML (default: nominal ac_table or xyz)");
   AddAnchorOption(sub, &args->anchor);
   sub->add_option("--reference", args->reference,
@@ -243,7 +220,10 @@ Command RegisterDiagnose(CLI::App& app) {
   sub->add_flag("--no-placement", args->no_placement, "validation: the CMM frame is the datum frame (no random placement)");
   sub->add_flag("--raw-peak", args->raw_peak,
                 "validation: magnitudes scale the raw signature's peak (default: the part the base model cannot absorb)");
-  return {sub, [args] { return RunDiagnose(*args); }};
+  return {sub, [args, testpiece] {
+            args->testpiece_given = testpiece->count() > 0;
+            return RunDiagnose(*args);
+          }};
 }
 
 }  // namespace tpcal::cli

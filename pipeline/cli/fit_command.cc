@@ -19,6 +19,7 @@
 #include "pipeline/piece_setup.h"
 #include "pipeline/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
+#include "testpieces/named_pieces.h"
 
 namespace tpcal::cli {
 namespace {
@@ -150,8 +151,7 @@ int RunFit(const FitArgs& args) {
 
 Command RegisterFit(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
-  std::string names;
-  for (const auto& n : pipeline::TestPieceNames()) names += (names.empty() ? "" : ", ") + n;
+  const std::string names = testpieces::PieceNameList();
   CLI::App* sub = app.add_subcommand(
       "fit",
       "Fit features and evaluate GD&T from CMM points.\n"

@@ -27,14 +27,12 @@
 #include "pipeline/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/version.h"
+#include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::cli {
 namespace {
-
-// NAME -> default parameters and nominal machine. Same names as `tpcal plan` / `simulate`.
-constexpr const char* kPieceNames = "turning, iso10791_m1_160, iso10791_m1_320 (alias iso10791_m1), iso10791_m2, cone_frustum";
 
 struct GcodeArgs {
   std::string testpiece;
@@ -51,60 +49,20 @@ struct GcodeArgs {
 
 Status ArgError(const std::string& message) { return Status(StatusCode::kInvalidArgument, message, "tpcal gcode"); }
 
-struct PieceChoice {
-  testpieces::PieceConfig config;
-  kinematics::MachineType machine_type = kinematics::MachineType::kAcTable;
-  double m1_size_mm = 0.0;  // M1: the size the name asks for
-};
-
-Result<PieceChoice> ChoosePiece(const std::string& name) {
-  PieceChoice c;
-  if (name == "turning") {
-    c.config.params = testpieces::TurningPieceParams{};
-  } else if (name == "iso10791_m1_160" || name == "iso10791_m1_320" || name == "iso10791_m1") {
-    c.m1_size_mm = name == "iso10791_m1_160" ? 160.0 : 320.0;
-    c.config.params = testpieces::ContourPieceParams::ForSize(c.m1_size_mm);
-    c.machine_type = kinematics::MachineType::kXyz;
-  } else if (name == "iso10791_m2") {
-    c.config.params = testpieces::FaceMillingPieceParams{};
-    c.machine_type = kinematics::MachineType::kXyz;
-  } else if (name == "cone_frustum") {
-    c.config.params = testpieces::ConeFrustumParams{};
-  } else {
-    return ArgError("--testpiece: unknown test piece '" + name + "' (expected one of: " + kPieceNames + ")");
-  }
-  return c;
-}
-
 Result<testpieces::TestPiece> BuildPiece(const GcodeArgs& args) {
-  auto chosen = ChoosePiece(args.testpiece);
-  if (!chosen.ok()) return chosen.status();
-  PieceChoice choice = std::move(*chosen);
+  auto named = testpieces::NamedPieceConfig(args.testpiece);
+  if (!named.ok()) return ArgError("--testpiece: " + named.status().message());
+  testpieces::PieceConfig config = named->config;
   if (!args.config.empty()) {
     auto read = testpieces::LoadPieceConfig(args.config);
     if (!read.ok()) return read.status();
-    testpieces::PieceConfig loaded = std::move(*read);
-    const testpieces::PieceKind want = testpieces::KindOf(choice.config.params);
-    if (testpieces::KindOf(loaded.params) != want) {
-      return Status(StatusCode::kInvalidArgument,
-                    std::string("piece: the configuration is for the ") +
-                        testpieces::PieceKindName(testpieces::KindOf(loaded.params)) + " piece, but --testpiece is " +
-                        args.testpiece,
-                    args.config);
-    }
-    if (const auto* m1 = std::get_if<testpieces::ContourPieceParams>(&loaded.params);
-        m1 != nullptr && args.testpiece != "iso10791_m1" && m1->size_mm != choice.m1_size_mm) {
-      return Status(StatusCode::kInvalidArgument,
-                    fmt::format("iso10791_m1.size_mm: the configuration is an M1 of size {} mm, but --testpiece is {}",
-                                m1->size_mm, args.testpiece),
-                    args.config);
-    }
-    choice.config = std::move(loaded);
+    if (Status s = testpieces::CheckConfigMatchesName(*read, *named, args.testpiece, args.config); !s.ok()) return s;
+    config = std::move(*read);
   }
-  auto machine = args.machine.empty() ? kinematics::MakeMachine(choice.machine_type)
+  auto machine = args.machine.empty() ? kinematics::MakeMachine(named->usual_machine)
                                       : kinematics::LoadMachineModel(args.machine);
   if (!machine.ok()) return machine.status();
-  auto piece = testpieces::MakeTestPiece(choice.config, *machine);
+  auto piece = testpieces::MakeTestPiece(config, *machine);
   if (!piece.ok()) {
     const Status& s = piece.status();
     return s.file().empty() ? s.WithLocation(args.config.empty() ? args.machine : args.config) : s;
@@ -269,7 +227,8 @@ Command RegisterGcode(CLI::App& app) {
       "PROGRAM.tbl (tool lengths and diameters in inches, what LinuxCNC's interpreter reads), so\n"
       "`rs274 -g PROGRAM -t PROGRAM.tbl` runs as it is. PROGRAM.testpiece.yaml and PROGRAM.post.yaml hold\n"
       "the effective configuration (feed them back with --config / --post). Dialect choices: gcode/DIALECTS.md.");
-  sub->add_option("--testpiece", args->testpiece, std::string("test piece: ") + kPieceNames)->required();
+  sub->add_option("--testpiece", args->testpiece, "test piece: " + testpieces::PieceNameList() +
+                                                     " (iso10791_m1 = iso10791_m1_320)")->required();
   sub->add_option("--config", args->config,
                   "test-piece configuration YAML (schema tpcal.testpiece/1: sizes, tools, feeds, speeds, stock; "
                   "its piece: must match --testpiece); default: the paper's / standard's piece");

@@ -15,6 +15,7 @@
 #include "pipeline/piece_setup.h"
 #include "pipeline/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
+#include "testpieces/named_pieces.h"
 
 namespace tpcal::cli {
 namespace {
@@ -123,8 +124,7 @@ int RunIdentify(const IdentifyArgs& args) {
 
 Command RegisterIdentify(CLI::App& app) {
   auto args = std::make_shared<IdentifyArgs>();
-  std::string names;
-  for (const auto& n : pipeline::TestPieceNames()) names += (names.empty() ? "" : ", ") + n;
+  const std::string names = testpieces::PieceNameList();
   CLI::App* sub = app.add_subcommand(
       "identify",
       "Identify machine errors from a measured test piece.\n"

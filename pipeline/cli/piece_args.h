@@ -18,7 +18,7 @@ class App;
 namespace tpcal::cli {
 
 struct PieceArgs {
-  // turning | iso10791_m1 (= iso10791_m1_320) | iso10791_m1_160 | iso10791_m2 | cone_frustum
+  // testpieces::PieceNames(): turning, turning_enriched, iso10791_m1 (= _320), _160, iso10791_m2, cone_frustum, ...
   std::string testpiece;
   std::string config;   // optional tpcal.testpiece/1 YAML (its `piece:` must agree with testpiece)
   std::string machine;  // tpcal.machine/1 YAML; optional for plan (default: the piece's usual machine)

@@ -20,6 +20,7 @@
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/point_io.h"
 #include "testpieces/brep.h"
+#include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/probing_plan.h"
 #include "testpieces/test_piece.h"
@@ -27,8 +28,6 @@
 namespace tpcal::cli {
 namespace {
 
-constexpr const char* kTestPieceNames =
-    "turning, iso10791_m1 (= iso10791_m1_320), iso10791_m1_160, iso10791_m2, cone_frustum";
 constexpr const char* kDensityHelp =
     "probing density: paper (as configured; the defaults are seed 002's plan: 16 points per circle, 8 per hole, "
     "one circle per face), dense (64 points per circle, 5 levels per face, 16 per hole, 3 levels per hole), or "
@@ -37,45 +36,15 @@ constexpr const char* kDensityHelp =
 }  // namespace
 
 Result<BuiltPiece> BuildPiece(const PieceArgs& args) {
-  using testpieces::PieceKind;
-  // NAME -> kind (and the M1 size a name may carry).
-  PieceKind kind;
-  double m1_size_mm = 0;  // 0: not given by the name
   const std::string& n = args.testpiece;
-  if (n == "turning") kind = PieceKind::kTurning;
-  else if (n == "iso10791_m1" || n == "iso10791_m1_320") kind = PieceKind::kContourM1, m1_size_mm = n == "iso10791_m1" ? 0 : 320;
-  else if (n == "iso10791_m1_160") kind = PieceKind::kContourM1, m1_size_mm = 160;
-  else if (n == "iso10791_m2") kind = PieceKind::kFaceMillingM2;
-  else if (n == "cone_frustum") kind = PieceKind::kConeFrustum;
-  else
-    return Status(StatusCode::kInvalidArgument,
-                  "--testpiece: unknown test piece '" + n + "' (expected " + kTestPieceNames + ")");
-
-  testpieces::PieceConfig config;
+  auto named = testpieces::NamedPieceConfig(n);
+  if (!named.ok()) return Status(StatusCode::kInvalidArgument, "--testpiece: " + named.status().message());
+  testpieces::PieceConfig config = named->config;
   if (!args.config.empty()) {
     auto loaded = testpieces::LoadPieceConfig(args.config);
     if (!loaded.ok()) return loaded.status().file().empty() ? loaded.status().WithLocation(args.config) : loaded.status();
+    if (Status s = testpieces::CheckConfigMatchesName(*loaded, *named, n, args.config); !s.ok()) return s;
     config = std::move(*loaded);
-    if (testpieces::KindOf(config.params) != kind)
-      return Status(StatusCode::kInvalidArgument,
-                    fmt::format("the configuration is for the {} piece, but --testpiece is {}",
-                                testpieces::PieceKindName(testpieces::KindOf(config.params)), n),
-                    args.config);
-    if (m1_size_mm > 0) {
-      const double size = std::get<testpieces::ContourPieceParams>(config.params).size_mm;
-      if (size != m1_size_mm)
-        return Status(StatusCode::kInvalidArgument,
-                      fmt::format("the configuration's M1 size is {} mm, but --testpiece is {}", size, n), args.config);
-    }
-  } else {
-    switch (kind) {
-      case PieceKind::kTurning: config.params = testpieces::TurningPieceParams{}; break;
-      case PieceKind::kContourM1:
-        config.params = testpieces::ContourPieceParams::ForSize(m1_size_mm > 0 ? m1_size_mm : 320.0);
-        break;
-      case PieceKind::kFaceMillingM2: config.params = testpieces::FaceMillingPieceParams{}; break;
-      case PieceKind::kConeFrustum: config.params = testpieces::ConeFrustumParams{}; break;
-    }
   }
 
   // Density.
@@ -108,8 +77,7 @@ Result<BuiltPiece> BuildPiece(const PieceArgs& args) {
     out.machine = std::move(*m);
   } else {
     // The piece's usual machine: A/C table for the turning piece and the cone, 3-axis for M1, M2.
-    const bool five_axis = kind == PieceKind::kTurning || kind == PieceKind::kConeFrustum;
-    auto m = kinematics::MakeMachine(five_axis ? kinematics::MachineType::kAcTable : kinematics::MachineType::kXyz);
+    auto m = kinematics::MakeMachine(testpieces::UsualMachine(config));
     if (!m.ok()) return m.status();
     out.machine = std::move(*m);
   }
@@ -123,7 +91,9 @@ Result<BuiltPiece> BuildPiece(const PieceArgs& args) {
 }
 
 void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required) {
-  sub->add_option("--testpiece", args->testpiece, std::string("test piece: ") + kTestPieceNames)->required();
+  sub->add_option("--testpiece", args->testpiece, "test piece: " + testpieces::PieceNameList() +
+                      " (iso10791_m1 = iso10791_m1_320; *_enriched: the variants proposed for the diagnosis, "
+                      "samples/testpieces/)")->required();
   sub->add_option("--config", args->config,
                   "test-piece configuration YAML (schema tpcal.testpiece/1, samples/testpieces/): dimensions in mm, "
                   "probing density, time model; default: the piece's documented defaults (testpieces/README.md)");

@@ -19,6 +19,7 @@
 #include "pipeline/run_output.h"
 #include "pipeline/run_stage.h"
 #include "pipeline/svg_figures.h"
+#include "testpieces/named_pieces.h"
 
 namespace tpcal::cli {
 namespace {
@@ -176,7 +177,7 @@ Command RegisterRun(CLI::App& app) {
       "DIR/summary.csv trending each machine error across the runs (exit 1 if any file failed).");
   sub->add_option("PIPELINE", args->pipeline, "pipeline YAML (schema tpcal.pipeline/1, pipeline/run_config.h)");
   sub->add_option("--testpiece", args->testpiece,
-                  "turning | iso10791_m1 | iso10791_m2 | cone_frustum | a tpcal.testpiece/1 YAML (default turning)");
+                  "test piece: " + testpieces::PieceNameList() + ", or a tpcal.testpiece/1 YAML (default turning)");
   sub->add_option("--points", args->points, "measured point file (tpcal points CSV, PLY, PCD, xyz)");
   sub->add_option("--out", args->out, "output directory (replaced atomically; created if missing)");
   sub->add_option("--machine", args->machine, "machine YAML (tpcal.machine/1); default: the piece's nominal machine");
