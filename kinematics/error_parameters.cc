@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "core/units.h"
 
@@ -137,16 +138,22 @@ void AddSeed002(std::vector<ParameterInfo>* out) {
     p.iso_symbol = iso;
     p.quantity = q;
     p.effects = std::move(effects);
-    p.condition.axis = Axis::kA;
-    p.condition.at = at;
+    if (!std::isnan(at)) {  // NaN: at every A
+      p.condition.axis = Axis::kA;
+      p.condition.at = at;
+    }
     p.description = description;
     out->push_back(std::move(p));
   };
   const Quantity L = Quantity::kLength, R = Quantity::kAngle;
+  // A turns about X, so the X position of the C line is the same at every A (for location errors;
+  // the A axis's axial error motion E_XA is an error motion). Active at A = -90 too: the faces
+  // turned there (S2, S3, S5, S6) are centred on the C line, the milled S_R is not, so their
+  // X concentricity to S_R carries it (kinematics/SEED002_SIGNS.md).
   make("dx_CR(0)", "delta x_CR(0 deg) = E_X0C (seed 002 eq. 1, printed E_X0A)", L,
-       {{Axis::kC, Component::kLineTx, 1.0}}, a0,
-       "X position of the C axis average line at A = 0 (line only: the table is not displaced at "
-       "C = 0); +value moves the line +X");
+       {{Axis::kC, Component::kLineTx, 1.0}}, std::numeric_limits<double>::quiet_NaN(),
+       "X position of the C axis average line, at A = 0 and every other A (A turns about X) "
+       "(line only: the table is not displaced at C = 0); +value moves the line +X");
   make("dy_CR(0)", "delta y_CR(0 deg) = E_Y0A + E_Y(0A)C (seed 002 eq. 2)", L,
        {{Axis::kC, Component::kLineTy, 1.0}}, a0,
        "Y position of the C axis average line at A = 0; +value moves the line +Y");

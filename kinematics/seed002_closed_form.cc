@@ -38,7 +38,7 @@ std::map<std::string, Row> Rows(const Seed002Geometry& g, Seed002Equations eq) {
     { Row& x = row("dy_S4_S1_um"); x[kA0] = (g.z1 - g.z4) * k; }
     { Row& x = row("dx_S6_S3_um"); x[kG90] = -(g.z3 - g.z6) * k; }
     { Row& x = row("dy_S6_S3_um"); x[kA90] = (g.z3 - g.z6) * k; }
-    { Row& x = row("dx_S3_SR_um"); x[kG90] = g.z3 * k; x[kBZX] = -g.z_R * k; }
+    { Row& x = row("dx_S3_SR_um"); x[kDx0] = 1; x[kG90] = g.z3 * k; x[kBZX] = -g.z_R * k; }  // dx_CR(0) at every A
     { Row& x = row("dy_S3_SR_um"); x[kDyAR] = 1; x[kDyCA] = 1; x[kA90] = -g.z3 * k; x[kAZY] = g.z_R * k; }
     { Row& x = row("dr_S1_S4_um"); x[kBZX] = (g.z1 - g.z4) * k; x[kB0] = -(g.z1 - g.z4) * k; }
     { Row& x = row("dr_S2_S5_um"); x[kA0] = (g.z2 - g.z5) * k; x[kAZY] = -(g.z2 - g.z5) * k; }

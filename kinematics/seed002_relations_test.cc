@@ -269,7 +269,7 @@ Table1 Expected(const std::map<std::string, double>& p) {
   t["dy_S4_S1"] = k * a0 * (kZ1 - kZ4);
   t["dx_S6_S3"] = -k * g9 * (kZ3 - kZ6);
   t["dy_S6_S3"] = k * a9 * (kZ3 - kZ6);
-  t["dx_S3_SR"] = k * (g9 * kZ3 - bZX * kZR);
+  t["dx_S3_SR"] = x0 + k * (g9 * kZ3 - bZX * kZR);  // dx_CR(0) holds at every A
   t["dy_S3_SR"] = yA + yCA + k * (-a9 * kZ3 + aZY * kZR);
   t["dr_S1"] = -x0 + k * (bZX - b0) * kZ1;
   t["dr_S4"] = -x0 + k * (bZX - b0) * kZ4;

@@ -191,16 +191,19 @@ TEST(SignConvention, HeadLocationErrors) {
 
 TEST(SignConvention, Seed002LineParametersAtToolPointLevel) {
   // Kinematics of the seed 002 "line" parameters (SEED002_SIGNS.md): dx_CR(0) = d moves the C
-  // line +X at A = 0 without moving the table at C = 0, so the tool point in the part shifts by
+  // line +X (at every A) without moving the table at C = 0, so the tool point in the part shifts by
   // (I - RotZ(C)) (d, 0, 0): nothing at C = 0, (2d, 0, 0) at C = 180 deg.
   const MachineModel ac = Machine(MachineType::kAcTable);
   const double d = 0.010;
   const Eigen::Vector3d nominal = NominalToolPointInPart(ac, At(140, 0, 30, 0, 0, 180), Eigen::Vector3d::Zero());
   EXPECT_LT((PointWith(ac, "dx_CR(0)", d, At(140, 0, 30, 0, 0, 0)) - Eigen::Vector3d(140, 0, 30)).norm(), 1e-12);
   EXPECT_LT((PointWith(ac, "dx_CR(0)", d, At(140, 0, 30, 0, 0, 180)) - nominal - Eigen::Vector3d(2 * d, 0, 0)).norm(), kTol_mm);
-  // Inactive away from A = 0.
+  // The same at A = -90: A turns about X, so the X position of the C line does not depend on A.
   EXPECT_LT((PointWith(ac, "dx_CR(0)", d, At(140, 0, 30, -90, 0, 180)) -
-             NominalToolPointInPart(ac, At(140, 0, 30, -90, 0, 180), Eigen::Vector3d::Zero())).norm(), 1e-12);
+             NominalToolPointInPart(ac, At(140, 0, 30, -90, 0, 180), Eigen::Vector3d::Zero()) -
+             Eigen::Vector3d(2 * d, 0, 0)).norm(), kTol_mm);
+  EXPECT_LT((PointWith(ac, "dx_CR(0)", d, At(140, 0, 30, -90, 0, 0)) -
+             NominalToolPointInPart(ac, At(140, 0, 30, -90, 0, 0), Eigen::Vector3d::Zero())).norm(), 1e-12);
   // dz_AR(-90) = d: the A line at Z = d; turning from A = 0 to -90 about it shifts the part by
   // (I - RotX(90)) (0, 0, d) = (0, d, d) in the machine: the tool at machine (0, y, r) is at
   // part (0, r - d, -(y - d)) at C = 0.

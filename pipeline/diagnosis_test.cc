@@ -350,9 +350,11 @@ TEST(Diagnosis, CrossValidationHoldsOutFeatures) {
   ASSERT_TRUE(d.ok()) << d.status().message();
   EXPECT_EQ(d->n_features, 30);  // S_R, B_R, H1..H16, S1..S6, B1..B6
   EXPECT_EQ(d->cv_features + static_cast<int>(d->cv_not_held_out.size()), d->n_features);
-  // S5 alone carries a direction of the base model (the other features hold 0.4 % of its
-  // information, below holdout_tolerance 5 %): reported, not held out. Every other feature is.
-  EXPECT_EQ(d->cv_not_held_out, std::vector<std::string>{"S5"});
+  // S4 and S5 each alone carry a direction of the base model (the other features hold less than
+  // holdout_tolerance = 5 % of its information): reported, not held out. Every other feature is.
+  // (S4: with dx_CR(0) acting at A = -90 too, the holes, S1 and S3 see dx_CR(0) and the Z
+  // squareness beta_ZX only as about dx_CR(0) - beta_ZX z_R; S4, 245 mm below S_R, separates them.)
+  EXPECT_EQ(d->cv_not_held_out, (std::vector<std::string>{"S4", "S5"}));
   // The servo candidates act on the groove S_R only, which they make unholdable: no held-out
   // feature carries them, so they are judged by PRESS and say so.
   bool saw_servo = false;
@@ -394,10 +396,12 @@ TEST(Diagnosis, CandidateThatMakesBaseFeaturesUnholdableIsJudgedByPress) {
   for (const auto& pp : plan->points) lo = std::min(lo, pp.cut.axes.z_mm), hi = std::max(hi, pp.cut.axes.z_mm);
   ASSERT_GT(hi - lo, 10.0);
   const auto at = [&](double u) { return lo - 1.0 + (hi - lo + 2.0) * u; };
-  // A bow with a small wave (its linear part is squareness, which the base model absorbs).
+  // A bow with a small wave (its linear part is squareness, which the base model absorbs), +-60 um:
+  // the base model absorbs most of it (S1 and S4 radii, S_R and hole centres), a +-20 um bow left
+  // a visible signature of only 0.23 um RMS at 0.5 um noise.
   const std::string effect = fmt::format(
       "effects:\n  - linear_error_motion: {{symbol: E_XZ, positions_mm: [{}, {}, {}, {}, {}], "
-      "values_um: [20, -5, -20, -10, 15], interpolation: cubic}}\n",
+      "values_um: [60, -15, -60, -30, 45], interpolation: cubic}}\n",
       at(0), at(0.25), at(0.5), at(0.75), at(1));
   auto sim = Simulate(f, Table2(f.machine, effect), 0.5, 41);
   ASSERT_TRUE(sim.ok()) << sim.status().message();

@@ -74,6 +74,19 @@ TEST(IdentifyStage, NoiseFreeRoundTripWithin50nm) {
   }
 }
 
+// A location error of C along X written the ISO 230-1 way (E_X0C, the whole C axis and its table
+// 6 um along +X) is seed 002's dx_CR(0) (eq. 1) at every A: A turns about X, so the faces turned
+// at A = -90 are centred on the same offset line. Noise-free: dx_CR(0) = 6 um to 0.05 um, every
+// other parameter 0, and nothing measurable left over. (With dx_CR(0) active at A = 0 only, this read 3.4 um
+// with 7 urad of spurious gamma_CR(-90) and beta_ZX, and left 0.5 um RMS unexplained.)
+TEST(IdentifyStage, IsoXPositionOfCIsTable2DxAtEveryA) {
+  auto r = SimulateAndIdentify({{"E_X0C", 6.0}}, 0.0, 5);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  for (const auto& p : r->identification.parameters)
+    EXPECT_NEAR(p.value, p.name == "dx_CR(0)" ? 6.0 : 0.0, 0.05) << p.name;
+  EXPECT_LT(r->identification.rms_after_um, 0.01);  // 2.4 nm left (was 0.5 um)
+}
+
 TEST(IdentifyStage, NoisyRoundTripWithin3u) {
   std::mt19937_64 rng(77);
   const double noise_um = 1.0;

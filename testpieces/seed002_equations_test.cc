@@ -97,6 +97,8 @@ std::vector<Case> Cases() {
     const double d = 20.0;
     cases.push_back({"dx_CR(0)", d,
                      {{"t1_concentricity_Ch_SR/dx_um", d}, {"t5_concentricity_S4_SR/dx_um", d},
+                      // the C line's X position holds at A = -90 too (A turns about X)
+                      {"concentricity_S3_SR/dx_um", d},
                       {"size_S1/radius_error_um", -d}, {"size_S4/radius_error_um", -d}}});
   }
   {
