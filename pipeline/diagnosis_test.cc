@@ -354,7 +354,9 @@ TEST(Diagnosis, CrossValidationHoldsOutFeatures) {
   // holdout_tolerance = 5 % of its information): reported, not held out. Every other feature is.
   // (S4: with dx_CR(0) acting at A = -90 too, the holes, S1 and S3 see dx_CR(0) and the Z
   // squareness beta_ZX only as about dx_CR(0) - beta_ZX z_R; S4, 245 mm below S_R, separates them.)
-  EXPECT_EQ(d->cv_not_held_out, (std::vector<std::string>{"S4", "S5"}));
+  // S_R: the only feature milled by X-Y interpolation, so the only one that sees the X-Y
+  // squareness E_C(0X)Y (its ellipse).
+  EXPECT_EQ(d->cv_not_held_out, (std::vector<std::string>{"S_R", "S4", "S5"}));
   // The servo candidates act on the groove S_R only, which they make unholdable: no held-out
   // feature carries them, so they are judged by PRESS and say so.
   bool saw_servo = false;

@@ -15,8 +15,9 @@
 //                        lost motion in half the trials;
 //   probe_radius         the virtual CMM's probe-radius error (random sign);
 //   none                 no effect.
-// Every trial draws random base errors (the base parameter set, +-20 um / urad), a random
-// placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
+// Every trial draws random base errors (the machine's ISO 230-1 location and squareness errors,
+// kinematics::IsoLocationSet, +-20 um / urad, whatever parameters the diagnosis's base model
+// uses; M2 also its straightness base terms), a random placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
 // signature left after the base model and the re-alignment absorb what they can (the part of the
 // gap the diagnosis can see) peaks at `magnitude` x the noise sigma (or its raw signature, with
 // scale_raw_peak); an effect the base absorbs (almost) entirely (|visible| < min_visible_fraction

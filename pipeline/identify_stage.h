@@ -30,7 +30,7 @@ Result<MeasuredObservations> ObservationsFromPoints(const testpieces::TestPiece&
                                                     const Rigid3& datum_from_cmm);
 
 // The parameter set identified by default on `piece` with `machine`: the seed 002 Table 2 set
-// for the turning piece on an A/C table; for M2 the straightness of X in Z (E_ZX.c2, E_ZX.c3,
+// and the X-Y squareness E_C(0X)Y for the turning piece on an A/C table; for M2 the straightness of X in Z (E_ZX.c2, E_ZX.c3,
 // um per mm^2 and mm^3); the ISO 230-1 location set otherwise.
 std::vector<std::string> DefaultParameterSet(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine);

@@ -63,7 +63,7 @@ TEST(IdentifyStage, NoiseFreeRoundTripWithin50nm) {
     const auto& id = r->identification;
     // Everything the data determine must come back: identifiable coefficients and the estimable
     // combinations of the others.
-    EXPECT_EQ(id.identifiability.num_parameters, 11);
+    EXPECT_EQ(id.identifiability.num_parameters, 12);  // Table 2 and E_C(0X)Y
     for (const auto& p : id.parameters) {
       if (!p.identifiable) continue;
       EXPECT_NEAR(p.value, TruthOf(truth, p.name), 0.05) << p.name << " trial " << trial;

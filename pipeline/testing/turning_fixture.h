@@ -31,12 +31,14 @@ inline const testpieces::TestPiece& Turning() {
   return piece;
 }
 
-// Random Table 2 errors: magnitude U(10, 50) um or urad, random sign (display units).
+// Random Table 2 errors and X-Y squareness E_C(0X)Y (the turning piece's identification set):
+// magnitude U(10, 50) um or urad, random sign (display units).
 inline std::map<std::string, double> RandomTable2(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> mag(10.0, 50.0);
   std::bernoulli_distribution sign(0.5);
   std::map<std::string, double> truth;
   for (const auto& name : kinematics::Seed002Set(AcTable())) truth[name] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
+  truth["E_C(0X)Y"] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
   return truth;
 }
 
