@@ -1,4 +1,4 @@
-// tpcal simulate --testpiece NAME --machine M.yaml --errors E.yaml [--config TP.yaml]
+// tpcal simulate --testpiece NAME --machine M.yaml --errors E.yaml [--process P.yaml] [--config TP.yaml]
 //                [--density ...] [--noise-um S] [--seed N] [--placement datum|random]
 //                [--probe-radius-error-um R] -o POINTS.csv [--truth TRUTH.yaml]
 //
@@ -25,6 +25,7 @@
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/point_io.h"
 #include "testpieces/piece_config.h"
+#include "testpieces/process_effects_yaml.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::cli {
@@ -33,6 +34,7 @@ namespace {
 struct SimulateArgs {
   PieceArgs piece;
   std::string errors;
+  std::string process;  // tpcal.process/1 YAML: tool deflection, servo reversal
   double noise_um = 0.0;
   std::uint64_t seed = 1;
   std::string placement = "datum";
@@ -72,7 +74,7 @@ std::string RigidYaml(const Rigid3& t) {
 
 // The stated truth of a simulated measurement (schema tpcal.simulation_truth/1).
 std::string TruthYaml(const SimulateArgs& args, const BuiltPiece& built, const kinematics::ErrorState& errors,
-                      const testpieces::SimulatedPiece& sim) {
+                      const testpieces::ProcessEffects& process, const testpieces::SimulatedPiece& sim) {
   const testpieces::TestPiece& piece = built.piece;
   std::string y;
   y += "# Stated truth of a tpcal simulate run: what was cut, by which machine errors, and how it was\n";
@@ -120,6 +122,9 @@ std::string TruthYaml(const SimulateArgs& args, const BuiltPiece& built, const k
                      Num(s.sum / s.n), Num(s.min), Num(s.max), Num(std::sqrt(s.sum2 / s.n)));
   }
   y += "errors:\n" + Indent(kinematics::FormatErrorState(errors, built.machine), "  ");
+  y += "process_file: " + Str(args.process) + "\n";
+  y += "process:  # tool deflection and servo reversal (tpcal.process/1); {} = none\n" +
+       Indent(testpieces::FormatProcessEffects(process), "  ");
   y += "testpiece_config:\n" + Indent(testpieces::FormatPieceConfig(piece.config), "  ");
   return y;
 }
@@ -139,7 +144,15 @@ int RunSimulate(const SimulateArgs& args) {
   if (!errors.ok())
     return ReportError(errors.status().file().empty() ? errors.status().WithLocation(args.errors) : errors.status());
 
+  testpieces::ProcessEffects process;
+  if (!args.process.empty()) {
+    auto loaded = testpieces::LoadProcessEffects(args.process);
+    if (!loaded.ok()) return ReportError(loaded.status());
+    process = std::move(*loaded);
+  }
+
   testpieces::PieceSimOptions options;
+  options.process = process;
   options.noise_um = args.noise_um;
   options.seed = args.seed;
   options.probe_radius_error_um = args.probe_radius_error_um;
@@ -150,14 +163,15 @@ int RunSimulate(const SimulateArgs& args) {
                    args.errors, built->piece.duration_s() / 60.0));
   auto sim = testpieces::SimulatePiece(built->piece, built->machine, *errors, options);
   if (!sim.ok()) return ReportError(sim.status().WithContext("simulating " + built->piece.name));
-  Info(fmt::format("simulated {} points: CMM noise {} um (seed {}), probe radius error {} um, placement {}",
-                   sim->points.size(), args.noise_um, args.seed, args.probe_radius_error_um, args.placement));
+  Info(fmt::format("simulated {} points: CMM noise {} um (seed {}), probe radius error {} um, placement {}{}{}",
+                   sim->points.size(), args.noise_um, args.seed, args.probe_radius_error_um, args.placement,
+                   process.deflection ? ", tool deflection" : "", process.servo ? ", servo reversal" : ""));
 
   for (Eigen::Vector3d& n : sim->points.normal) n = n.array() + 0.0;  // no "-0" in the file
   auto text = pipeline::FormatPointCsv(sim->points);
   if (!text.ok()) return ReportError(text.status().WithLocation(args.out));
   std::string truth;
-  if (!args.truth.empty()) truth = TruthYaml(args, *built, *errors, *sim);
+  if (!args.truth.empty()) truth = TruthYaml(args, *built, *errors, process, *sim);
 
   if (Status s = pipeline::WriteFileAtomic(args.out, *text); !s.ok()) return ReportError(s);
   Info(fmt::format("wrote {}: {} points on {} features (CMM frame, mm)", args.out, sim->points.size(),
@@ -186,6 +200,10 @@ Command RegisterSimulate(CLI::App& app) {
                   "machine error YAML (schema tpcal.errors/1, kinematics/errors_yaml.md): E_X0C_um: 10, "
                   "E_B0C_urad: -20, dx_CR(0)_um: 12.4, effects: [...]; unknown keys are errors")
       ->required();
+  sub->add_option("--process", args->process,
+                  "process effects YAML (schema tpcal.process/1, testpieces/process_effects_yaml.h): tool_deflection "
+                  "{compliance_um_per_n: [x, y, z], ...}, servo_reversal {spike_x_um, spike_y_um, decay_deg, "
+                  "backlash_x_um, backlash_y_um}; default none");
   sub->add_option("--noise-um", args->noise_um, "1-sigma CMM probing noise along the normal, um")->capture_default_str();
   sub->add_option("--seed", args->seed, "seed of std::mt19937_64 (placement, then noise)")->capture_default_str();
   sub->add_option("--placement", args->placement,

@@ -223,11 +223,67 @@ TEST_F(SimulateCli, EveryPieceOnItsMachine) {
   }
 }
 
+// --process: the effects that are not machine geometry (tool deflection, servo reversal) go into
+// the simulated piece from a tpcal.process/1 file, are stated in the truth, and `tpcal diagnose`,
+// not told about them, names them. Truths: ISO location errors of C plus servo spikes of 5 / 4 um,
+// or the default cutting-force compliances (about 3 um peak); noise 0.5 um, fixed seeds.
+TEST_F(SimulateCli, ProcessEffectsFileIsWithheldFromTheDiagnosis) {
+  WriteText(Path("iso.yaml"), "schema: tpcal.errors/1\nE_X0C_um: 6\nE_B0C_urad: -12\nE_C(0X)Y_urad: 15\n");
+  WriteText(Path("servo.yaml"), "schema: tpcal.process/1\nservo_reversal: {spike_x_um: 5, spike_y_um: 4, decay_deg: 5}\n");
+  WriteText(Path("deflection.yaml"), "schema: tpcal.process/1\ntool_deflection: {compliance_um_per_n: [0.02, 0.025, 0.01]}\n");
+  WriteText(Path("none.yaml"), "schema: tpcal.process/1\n");
+  struct Case { const char* file; const char* family; };
+  for (const Case& c : {Case{"servo.yaml", "servo_reversal"}, Case{"deflection.yaml", "tool_deflection"},
+                        Case{"none.yaml", "none"}}) {
+    SCOPED_TRACE(c.file);
+    RunResult r = Run("simulate --testpiece turning --machine " + kMachine + " --errors iso.yaml --process " + c.file +
+                      " --noise-um 0.5 --seed 4 --placement random -o pts.csv --truth truth.yaml");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const YAML::Node truth = YAML::LoadFile(Path("truth.yaml"));
+    EXPECT_EQ(truth["process_file"].as<std::string>(), c.file);
+    EXPECT_EQ(truth["process"]["servo_reversal"].IsDefined(), std::string(c.file) == "servo.yaml");
+    EXPECT_EQ(truth["process"]["tool_deflection"].IsDefined(), std::string(c.file) == "deflection.yaml");
+    r = Run("-q diagnose pts.csv --testpiece turning --json d.json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto d = nlohmann::json::parse(ReadText(Path("d.json")));
+    EXPECT_EQ(d["verdict"]["family"], c.family) << r.out;
+  }
+  // A bad process file: exit 2 naming file:line and the key, nothing written.
+  std::filesystem::remove(Path("pts.csv"));
+  WriteText(Path("bad.yaml"), "servo_reversal:\n  spike_x_um: 5\n  spike_q_um: 1\n");
+  const RunResult bad = Run("simulate --testpiece turning --machine " + kMachine +
+                            " --errors iso.yaml --process bad.yaml -o pts.csv");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad.yaml:3:"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("spike_q_um"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(Path("pts.csv")));
+}
+
+// The enriched variants are names like the others (testpieces/named_pieces.h).
+TEST_F(SimulateCli, EnrichedPiecesByName) {
+  WriteText(Path("zero.yaml"), "schema: tpcal.errors/1\n");
+  RunResult r = Run("simulate --testpiece cone_frustum_enriched --machine " + kMachine + " --errors zero.yaml -o cone.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto cone = pipeline::ReadPointFile(Path("cone.csv"));
+  ASSERT_TRUE(cone.ok()) << cone.status().ToString();
+  EXPECT_EQ(cone->points.IndicesOf("CONE2_1").size(), 48u);  // second cone, 48 points per section
+  r = Run("simulate --testpiece turning_enriched --machine " + kMachine + " --errors zero.yaml -o turning.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto turning = pipeline::ReadPointFile(Path("turning.csv"));
+  ASSERT_TRUE(turning.ok()) << turning.status().ToString();
+  EXPECT_EQ(turning->points.IndicesOf("S_RI").size(), 32u * 3u);  // inner groove wall, 3 levels x 32
+  r = Run("simulate --testpiece cone_frustum_enriched --config " + Source("samples/testpieces/iso10791_m2.yaml") +
+          " --machine " + kMachine + " --errors zero.yaml -o x.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("but --testpiece is cone_frustum_enriched"), std::string::npos) << r.err;
+}
+
 TEST_F(SimulateCli, HelpStatesUnits) {
   const RunResult r = Run("simulate --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* s : {"tpcal points v1", "--noise-um", "um", "--seed", "--placement", "random",
-                        "--probe-radius-error-um", "cmm_from_part", "--truth", "tpcal.errors/1"})
+                        "--probe-radius-error-um", "cmm_from_part", "--truth", "tpcal.errors/1", "--process",
+                        "tpcal.process/1", "cone_frustum_enriched"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
 
