@@ -175,11 +175,12 @@ Result<StockEnvelope> ConeStock(const testpieces::TestPiece& piece) {
   // The cone, and the second cone of the enriched piece (its first section CONE2_1).
   std::vector<const NominalFeature*> cones{&piece.features.front()};
   if (const NominalFeature* second = piece.Feature("CONE2_1")) cones.push_back(second);
+  if (const NominalFeature* third = piece.Feature("CONE3_1")) cones.push_back(third);
   for (const NominalFeature* fp : cones) {
     const NominalFeature& f = *fp;
     StockPrimitive cone;
     cone.kind = StockPrimitive::Kind::kFrustum;
-    cone.name = cones.size() > 1 && fp != cones.front() ? "second cone frustum" : "cone frustum";
+    cone.name = fp == cones.front() ? "cone frustum" : fp == cones[1] ? "second cone frustum" : "third cone frustum";
     cone.origin_mm = f.origin_mm;
     cone.axis = f.axis;
     cone.radius_mm = f.radius_mm;

@@ -165,6 +165,7 @@ TopoDS_Shape ConeSolid(const TestPiece& piece, const ConeFrustumParams& p) {
       "base");
   s = Fuse(s, ConeOf(*cone, p));
   if (const NominalFeature* second = piece.Feature("CONE2_1")) s = Fuse(s, ConeOf(*second, p));
+  if (const NominalFeature* third = piece.Feature("CONE3_1")) s = Fuse(s, ConeOf(*third, p));
   return s;
 }
 

@@ -38,12 +38,16 @@ std::vector<NamedConfig> AllPieces() {
   PieceConfig cone;
   cone.params = ConeFrustumParams{};
   out.push_back({"cone", cone});
-  PieceConfig two_cones;  // samples/testpieces/cone_frustum_enriched.yaml's geometry
+  PieceConfig two_cones;
   ConeFrustumParams tc;
   tc.base_size_mm = 380;
   tc.second_cone_offset_mm = 130;
   two_cones.params = tc;
   out.push_back({"cone_two_cones", two_cones});
+  PieceConfig three_cones;  // samples/testpieces/cone_frustum_enriched.yaml's geometry
+  tc.third_cone_offset_mm = 130;
+  three_cones.params = tc;
+  out.push_back({"cone_three_cones", three_cones});
   return out;
 }
 

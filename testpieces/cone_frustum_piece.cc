@@ -51,6 +51,19 @@ Status ConeFrustumParams::Validate() const {
                      "the tool must stay over the base plate around the second cone (> 2 (offset + bottom radius + "
                      "tool diameter))");
   }
+  if (!(std::isfinite(third_cone_offset_mm) && third_cone_offset_mm >= 0))
+    return BadCone("third_cone.offset_mm", third_cone_offset_mm, "must be 0 (none) or positive");
+  if (third_cone_offset_mm > 0) {
+    if (!(second_cone_offset_mm > 0))
+      return BadCone("third_cone.offset_mm", third_cone_offset_mm, "needs the second cone (second_cone.offset_mm > 0)");
+    if (!(third_cone_offset_mm > bottom_diameter_mm + 2 * end_mill_diameter_mm))
+      return BadCone("third_cone.offset_mm", third_cone_offset_mm,
+                     "the cones and the tool between them must not overlap (> bottom diameter + 2 tool diameters)");
+    if (!(2 * (third_cone_offset_mm + 0.5 * bottom_diameter_mm + end_mill_diameter_mm) < base_size_mm))
+      return BadCone("base_size_mm", base_size_mm,
+                     "the tool must stay over the base plate around the third cone (> 2 (offset + bottom radius + "
+                     "tool diameter))");
+  }
   return Status::Ok();
 }
 
@@ -206,7 +219,8 @@ Result<TestPiece> BuildConeFrustumPiece(const PieceConfig& config, const kinemat
       f.level_min_mm = f.h_min_mm;
       f.level_max_mm = f.h_max_mm;
       std::ostringstream os;
-      os << "cone flank section " << s + 1 << (prefix == "CONE_" ? "" : " of the second cone") << " (cone height "
+      os << "cone flank section " << s + 1
+         << (prefix == "CONE_" ? "" : prefix == "CONE2_" ? " of the second cone" : " of the third cone") << " (cone height "
          << f.design_levels_mm[0] << " mm), five-axis flank milling";
       f.description = os.str();
       piece.features.push_back(f);
@@ -219,6 +233,11 @@ Result<TestPiece> BuildConeFrustumPiece(const PieceConfig& config, const kinemat
     NominalFeature second = cone;
     second.origin_mm.x() += p.second_cone_offset_mm;
     TPCAL_RETURN_IF_ERROR(cut_cone(second, "CONE2_", "second cone flank"));
+  }
+  if (p.third_cone_offset_mm > 0) {
+    NominalFeature third = cone;
+    third.origin_mm.y() += p.third_cone_offset_mm;
+    TPCAL_RETURN_IF_ERROR(cut_cone(third, "CONE3_", "third cone flank"));
   }
   piece.operations = program.Finish();
 

@@ -101,6 +101,11 @@ struct ConeFrustumParams {
   // Rapid (retract) height above the cone top: the tilted tool must clear the cone at every A/C.
   double safe_clearance_mm = 60.0;
   double second_cone_offset_mm = 0.0;  // 0: one cone (NAS 979); > 0: see above
+  // A third identical cone this far along +Y (features CONE3_1 .. CONE3_k; needs the second):
+  // on the +X cone a first-harmonic angular positioning error of C turns up as a field whose
+  // X^2 and Y^2 parts a quadratic straightness of X and Y also makes; on a cone a quarter turn
+  // away the two fields fall on the pass with other phases.
+  double third_cone_offset_mm = 0.0;   // 0: none
 
   Status Validate() const;
 };

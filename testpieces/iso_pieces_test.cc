@@ -185,6 +185,46 @@ TEST(IsoPieces, SecondConeIsCutByItsOwnPass) {
   EXPECT_FALSE(small_plate.Validate().ok());
 }
 
+// The enriched cone piece's third cone, 130 mm along +Y, cut by a third operation (sections
+// CONE3_1 .. CONE3_3), round when machined; it needs the second cone and room on the plate.
+TEST(IsoPieces, ThirdConeIsCutByItsOwnPass) {
+  const auto m = Machine(kinematics::MachineType::kAcTable);
+  ConeFrustumParams p;
+  p.base_size_mm = 380;
+  p.second_cone_offset_mm = 130;
+  p.third_cone_offset_mm = 130;
+  const TestPiece piece = Make(p, m);
+  ASSERT_EQ(piece.features.size(), 9u);
+  ASSERT_EQ(piece.operations.size(), 3u);
+  for (int k = 1; k <= 3; ++k) {
+    const NominalFeature* a = piece.Feature("CONE_" + std::to_string(k));
+    const NominalFeature* c = piece.Feature("CONE3_" + std::to_string(k));
+    ASSERT_TRUE(a && c);
+    EXPECT_EQ(c->origin_mm - a->origin_mm, Eigen::Vector3d(0, 130, 0));
+    EXPECT_EQ(c->axis, a->axis);
+  }
+  auto plan = MakeProbingPlan(piece);
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  double y_min = 1e9, y_max = -1e9;
+  for (const auto& pt : plan->points) {
+    EXPECT_LT(kinematics::CutPointMismatch(m, pt.cut), 1e-9) << pt.feature;
+    if (pt.feature.rfind("CONE3_", 0) == 0) {
+      EXPECT_EQ(pt.cut.axes.op, 3);
+      y_min = std::min(y_min, pt.cut.axes.y_mm);
+      y_max = std::max(y_max, pt.cut.axes.y_mm);
+    }
+  }
+  EXPECT_GT(y_max - y_min, 200.0);  // it swings round the C axis too
+  const auto r = Evaluate(piece, m, kinematics::ErrorState(m), true);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(Value(r, "circularity_CONE3_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
+  ConeFrustumParams alone = p;
+  alone.second_cone_offset_mm = 0;
+  EXPECT_FALSE(alone.Validate().ok());
+  ConeFrustumParams overlap = p;
+  overlap.third_cone_offset_mm = 100;  // < 80 + 2 x 16
+  EXPECT_FALSE(overlap.Validate().ok());
+}
+
 // The exact solve (kinematics::SimulateSurfacePoint on the cut point's sweep) and the first-order
 // projection n0 . (S(0,0) - p0) agree to second order only if du, dv are tangent to the surface
 // actually swept: this checks every cut model's sweep directions.
@@ -203,6 +243,9 @@ TEST(IsoPieces, SweepDirectionsAreTangentForEveryPiece) {
   two_cones.second_cone_offset_mm = 130;
   // The offset cone sits up to 210 mm from the C axis: longer levers, larger slips.
   pieces.push_back({two_cones, kinematics::MachineType::kAcTable, 5e-6});
+  ConeFrustumParams three_cones = two_cones;
+  three_cones.third_cone_offset_mm = 130;
+  pieces.push_back({three_cones, kinematics::MachineType::kAcTable, 5e-6});
   for (const P& pp : pieces) {
     const auto m = Machine(pp.type);
     const TestPiece piece = Make(pp.params, m);

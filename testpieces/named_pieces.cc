@@ -56,9 +56,10 @@ Result<NamedPiece> NamedPieceConfig(std::string_view name) {
   } else if (name == "cone_frustum_enriched") {
     // samples/testpieces/cone_frustum_enriched.yaml
     ConeFrustumParams p;
-    p.name = "NAS 979 cone frustum, enriched (second cone 130 mm along +X, 48 points per section)";
+    p.name = "NAS 979 cone frustum, enriched (cones 130 mm along +X and +Y, 48 points per section)";
     p.base_size_mm = 380;
     p.second_cone_offset_mm = 130;
+    p.third_cone_offset_mm = 130;
     n.config.params = p;
     n.config.probing.points_per_circle = 48;
   } else {

@@ -6,7 +6,7 @@
 //   iso10791_m1             = iso10791_m1_320; iso10791_m1_160 the small M1 (3-axis)
 //   iso10791_m2             face-milling piece (3-axis)
 //   cone_frustum            NAS 979 / ISO 10791-7 cone frustum, A/C table
-//   cone_frustum_enriched   + a second cone 130 mm along +X on a 380 mm plate, 48 points per section
+//   cone_frustum_enriched   + cones 130 mm along +X and +Y on a 380 mm plate, 48 points per section
 #pragma once
 
 #include <string>

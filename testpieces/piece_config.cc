@@ -144,6 +144,7 @@ Table<ConeFrustumParams> ConeTable() {
       {"probe_band_margin_mm", &T::probe_band_margin_mm},
       {"safe_clearance_mm", &T::safe_clearance_mm},
       {"second_cone.offset_mm", &T::second_cone_offset_mm},
+      {"third_cone.offset_mm", &T::third_cone_offset_mm},
   };
 }
 
