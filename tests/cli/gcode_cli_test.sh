@@ -20,11 +20,11 @@ case "$MODE" in
 rs274)
   RS274=$(command -v rs274 || true)
   [ -n "$RS274" ] || fail "LinuxCNC's rs274 is not installed (apt-get install --no-install-recommends linuxcnc-uspace)"
-  for piece in turning iso10791_m1_160 iso10791_m1_320 iso10791_m2 cone_frustum; do
+  for piece in turning turning_enriched iso10791_m1_160 iso10791_m1_320 iso10791_m2 cone_frustum cone_frustum_enriched; do
     skip=""
     # Known defect of testpieces/turning_piece.cc: the insert retracts by rapids through the
     # uncut S_i stock after each facing pass; the safety check rejects it (gcode/safety_test.cc).
-    [ "$piece" = turning ] && skip="--skip-check rapids"
+    [ "${piece%_enriched}" = turning ] && skip="--skip-check rapids"
     prog="$piece.ngc"
     # shellcheck disable=SC2086
     "$TPCAL" -q gcode --testpiece "$piece" --dialect linuxcnc -o "$prog" --svg "$piece.svg" --date 2025-01-01 $skip \
