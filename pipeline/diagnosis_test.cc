@@ -566,6 +566,35 @@ TEST(Diagnosis, ThirdConeSeparatesRotaryPositioningFromStraightness) {
   EXPECT_EQ(correct, counted) << ValidationMarkdown(*s);
 }
 
+// Observability in the validation is what the diagnosis can see: on the single cone a drift is
+// 2-3 % visible by the linear projection at the nominal state, and scaled up to a 10x peak the base
+// fit absorbs it (gap at noise level); such trials count unobservable, not as misses named none.
+// On the turning piece the same family stays observable.
+TEST(Diagnosis, ValidationCountsWhatTheBaseFitAbsorbsAsUnobservable) {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  ASSERT_TRUE(m.ok());
+  testpieces::PieceConfig config;
+  config.params = testpieces::ConeFrustumParams{};
+  auto cone = testpieces::MakeTestPiece(config, *m);
+  ASSERT_TRUE(cone.ok()) << cone.status().message();
+  ValidationOptions v;
+  v.families = {"thermal_drift"};
+  v.magnitudes = {10.0};
+  v.noise_um = {1.0};
+  v.trials = 6;
+  v.seed = 11;
+  auto s = RunValidation(*cone, *m, v);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  for (const auto& t : s->trials) {
+    EXPECT_FALSE(t.observable) << t.true_detail << ": verdict " << t.verdict;
+    EXPECT_LT(t.visible_fraction, 0.02) << t.true_detail;
+  }
+  const Fixture f = Make();
+  auto turning = RunValidation(f.piece, f.machine, v);
+  ASSERT_TRUE(turning.ok()) << turning.status().message();
+  for (const auto& t : turning->trials) EXPECT_TRUE(t.observable) << t.true_detail;
+}
+
 TEST(Diagnosis, SmallValidationMeetsTargets) {
   const Fixture f = Make();
   ValidationOptions v;

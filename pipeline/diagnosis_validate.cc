@@ -70,10 +70,13 @@ Result<Withheld> MakeWithheld(const std::string& family, const kinematics::Machi
     return w;
   }
   if (family == "thermal_drift") {
-    const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C"};
+    // Translations of the table (motor heat, coolant) and, since the candidates drift
+    // translations only, tilts of the C line and the Z column's squareness (spindle and column
+    // heat), which they can follow only in part.
+    const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C", "E_A0C", "E_B0C", "E_B(0X)Z"};
     const char* squareness[] = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
-    const std::string p = rotary ? params[Pick(rng, 6)] : squareness[Pick(rng, 3)];
-    const std::string unit = rotary ? "um" : "urad";
+    const std::string p = rotary ? params[Pick(rng, 9)] : squareness[Pick(rng, 3)];
+    const std::string unit = rotary && p.size() == 5 && p[3] == '0' && (p[2] == 'X' || p[2] == 'Y' || p[2] == 'Z') ? "um" : "urad";
     if (Pick(rng, 10) < 7) {
       const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
       TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, K_{}: {}, tau_s: {}}}}}", p, unit, RandomSign(rng), tau)));
@@ -278,6 +281,26 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
                 continue;
               }
               for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
+              // The exact solve leaves a floor of about 0.01 um that does not scale with the
+              // effect: at unit size (peaks of ~1 um) it read as 2-3 % "visible" on effects the
+              // base absorbs entirely (drifts on the single cone, run at 30-50x and named none).
+              // The signature is taken at a 20 um peak instead (second-order terms ~ 4e-6 of it)
+              // and scaled back.
+              const double unit_peak_um = sig.cwiseAbs().maxCoeff();
+              if (unit_peak_um > 1e-6 && unit_peak_um < 20.0) {
+                const double up = 20.0 / unit_peak_um;
+                Withheld big = *w;
+                big.probe_um = 0.0;
+                big.Scale(up);
+                auto sim_big = testpieces::SimulatePiece(piece, machine, big.terms ? *big.terms : zero, [&] {
+                  testpieces::PieceSimOptions o;
+                  o.process = big.process;
+                  return o;
+                }());
+                if (sim_big.ok())
+                  for (Eigen::Index i = 0; i < n; ++i)
+                    sig(i) = MmToUm(sim_big->truth.deviation_mm[static_cast<std::size_t>(i)]) / up;
+              }
             }
             sig.array() += w->probe_um;
           }
@@ -299,6 +322,27 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
             // long; it is run at its drawn (unit) size, unobservable.
             if (raw_peak <= kNoSignature_um) k = 1.0;
             w->Scale(k);
+            // The visible part above is the linear projection at the nominal state. A signature
+            // the base absorbs almost entirely is scaled far up (30-50x on the single cone's drifts,
+            // 2-3 % visible), and there the base fit, moving far along its weakly determined
+            // directions, absorbs the rest too: the diagnosis sees a gap at noise level. Such a
+            // trial is counted unobservable: the scaled effect alone, noise-free, keeps less than
+            // half its intended peak after the diagnosis's own base fit.
+            if (trial.observable && !options.scale_raw_peak) {
+              testpieces::PieceSimOptions alone;
+              alone.probe_radius_error_um = w->probe_um;
+              alone.process = w->process;
+              auto clean = testpieces::SimulatePiece(piece, machine, w->terms ? *w->terms : zero, alone);
+              if (clean.ok()) {
+                DiagnosisOptions base_only;
+                base_only.noise_um = noise;
+                auto d0 = Diagnose(piece, machine, clean->points, base_only);
+                if (d0.ok() && d0->max_abs_um < 0.5 * magnitude * noise) {
+                  trial.observable = false;
+                  trial.visible_fraction *= d0->max_abs_um / (magnitude * noise);
+                }
+              }
+            }
           }
           trial.effect_rms_um = k * std::sqrt(visible.squaredNorm() / static_cast<double>(n));
           // The piece as measured: random base errors + the scaled effect, noise, placement.
@@ -462,8 +506,8 @@ std::string ValidationMarkdown(const ValidationSummary& s) {
   std::string misses;
   for (const auto& t : s.trials) {
     if (t.magnitude < 5.0 || !t.observable || t.verdict == t.true_family) continue;
-    misses += fmt::format("- {} at {:g}x, noise {:g} um ({}): verdict {}{}\n", t.true_family, t.magnitude, t.noise_um,
-                          t.true_detail, t.verdict,
+    misses += fmt::format("- {} at {:g}x, noise {:g} um ({}; visible {:.0f} % of its signature): verdict {}{}\n",
+                          t.true_family, t.magnitude, t.noise_um, t.true_detail, 100 * t.visible_fraction, t.verdict,
                           t.indistinguishable_from.empty() ? "" : fmt::format(" (indistinguishable from {})", fmt::join(t.indistinguishable_from, ", ")));
   }
   if (!misses.empty()) o += "\nMissed trials at magnitude >= 5x:\n\n" + misses;

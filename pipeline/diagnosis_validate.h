@@ -2,7 +2,9 @@
 // with one unmodelled effect switched on that the diagnosis is not told about, produced by the
 // simulator's physics, not by the candidate formulas of diagnosis_candidates.h:
 //   thermal_drift        exponential (random tau, 0.15 to 1.5 x the program duration) or linear
-//                        drift of one workpiece-branch translation (E_X0A ... E_Z0C), ErrorState term;
+//                        drift of one workpiece-branch translation (E_X0A ... E_Z0C), tilt of the
+//                        C line (E_A0C, E_B0C) or Z squareness (E_B(0X)Z), ErrorState term
+//                        (3-axis machines: one of the three squareness errors);
 //   linear_straightness  a 5-node cubic (Catmull-Rom) table over the axis range used by the piece,
 //                        random values with the linear trend removed, on one of E_YX ... E_YZ;
 //   linear_positioning   scale (+ quadratic, half the trials) of one of E_XX, E_YY, E_ZZ;
@@ -23,7 +25,11 @@
 // scale_raw_peak); an effect the base absorbs (almost) entirely (|visible| < min_visible_fraction
 // |signature|, default 2 %) is run at that peak of its raw signature and counted as unobservable:
 // scaling a 99.9 %-absorbed effect up until its remainder shows would make the remainder a
-// second-order (nonlinear) artefact of a huge error, not the effect's own signature.
+// second-order (nonlinear) artefact of a huge error, not the effect's own signature. The unit
+// signature is simulated at a 20 um peak (the exact solve's ~0.01 um floor stays out of it), and a
+// trial is also unobservable when the scaled effect alone, noise-free, keeps less than half its
+// intended peak after the diagnosis's own (nonlinear) base fit: on the single cone the drifts are
+// 2-3 % visible by the linear projection, and scaled 30-50x the base fit absorbs the rest.
 #pragma once
 
 #include <cstdint>
