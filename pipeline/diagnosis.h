@@ -94,6 +94,10 @@ struct DiagnosisOptions {
   // a third of the signature's RMS.
   double alias_capture = 0.9;
   double absorbed_tolerance = 1e-3;   // sine of the principal angle to the base design below which a direction is absorbed
+  // A family whose candidates keep less than this share of a typical signature outside the base
+  // (RMS sine of the principal angles) is reported weakly observable: at 0.1 an effect must be
+  // about 10x the noise before 1x of it shows.
+  double weak_visibility = 0.10;
   double noise_um = 0.0;              // known CMM noise sigma (um); 0 = estimated from the residual
   int max_harmonic = 8;               // C harmonics reported per circular profile
   double stand_out_z = 4.0;           // z-score above which a group stands out beyond noise
@@ -154,6 +158,11 @@ struct CandidateResult {
   int n_columns = 0;   // parameters of the model
   int rank = 0;        // directions left after projecting out the base (0 = unobservable)
   bool observable = false;
+  // Largest sine of the principal angles between the candidate's columns and the base design: the
+  // share (in norm) of its most visible signature that the base model cannot absorb.
+  double visible_share = 0.0;
+  // RMS of those sines over its directions: the share of a typical signature of the candidate.
+  double typical_visible_share = 0.0;
   double rms_after_um = 0.0, max_abs_after_um = 0.0, shrink_pct = 0.0;
   // Leave-one-feature-out (see the top of this file), over the same held-out features before and after.
   double cv_rms_before_um = 0.0, cv_rms_after_um = 0.0, cv_shrink_pct = 0.0;
@@ -174,6 +183,12 @@ struct CandidateResult {
 struct UnobservableFamily {
   std::string family;
   std::string reason;
+};
+
+// A family observable only in a small share of its typical signature (DiagnosisOptions::weak_visibility).
+struct WeaklyObservableFamily {
+  std::string family;
+  double visible_share = 0.0;  // typical share, largest over its candidates, 0..1 (norm ratio)
 };
 
 struct Verdict {
@@ -227,6 +242,7 @@ struct DiagnosisResult {
   std::vector<EffectParameter> base_parameters;  // identified base coefficients (without effect)
   std::vector<CandidateResult> candidates;       // best first (significant, then by cv_rms_after / cv_rms_before; unobservable last)
   std::vector<UnobservableFamily> unobservable;  // families with no observable candidate
+  std::vector<WeaklyObservableFamily> weakly_observable;  // observable, but mostly absorbed by the base
   Verdict verdict;
   std::optional<PairFit> pair;                   // verdict + runner-up jointly, when they are close
   std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"

@@ -102,6 +102,8 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
     e["observable"] = c.observable;
     e["n_parameters"] = c.n_columns;
     e["rank"] = c.rank;
+    e["visible_share_pct"] = 100.0 * c.visible_share;
+    e["typical_visible_share_pct"] = 100.0 * c.typical_visible_share;
     e["f_stat"] = c.f_stat;
     e["p_value"] = c.p_value;
     e["delta_bic"] = c.delta_bic;
@@ -142,6 +144,10 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   json un = json::array();
   for (const auto& u : r.unobservable) un.push_back({{"family", u.family}, {"reason", u.reason}});
   j["unobservable"] = un;
+  json weak = json::array();
+  for (const auto& w : r.weakly_observable)
+    weak.push_back({{"family", w.family}, {"visible_share_pct", 100.0 * w.visible_share}});
+  j["weakly_observable"] = weak;
   j["base_parameters"] = ParametersJson(r.base_parameters);
   j["skipped_points"] = r.skipped_points;
   if (!inputs.empty()) {
@@ -215,6 +221,11 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     }
   }
   for (const auto& u : r.unobservable) o += "unobservable: " + u.family + ": " + u.reason + "\n";
+  for (const auto& w : r.weakly_observable)
+    o += fmt::format("weakly observable: {}: {:.1f} % of a typical signature lies outside the base model on this piece "
+                     "and plan (the rest is taken for location errors): an effect must be about {:.0f}x the noise "
+                     "before 1x of it shows\n",
+                     w.family, 100.0 * w.visible_share, w.visible_share > 0 ? 1.0 / w.visible_share : 0.0);
   if (!r.skipped_points.empty())
     o += fmt::format("{} point(s) skipped (no cut of their feature reaches them), first: {}\n", r.skipped_points.size(),
                      r.skipped_points.front());

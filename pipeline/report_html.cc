@@ -207,6 +207,13 @@ std::string DiagnosisSection(const RunResult& r) {
     for (const auto& u : d.unobservable) h += fmt::format("<li>{}: {}</li>\n", E(u.family), E(u.reason));
     h += "</ul>\n";
   }
+  if (!d.weakly_observable.empty()) {
+    h += "<p>Families this piece and plan observe only weakly (most of their signature is taken for location "
+         "errors):</p><ul>\n";
+    for (const auto& w : d.weakly_observable)
+      h += fmt::format("<li>{}: {:.1f} % of a typical signature visible</li>\n", E(w.family), 100.0 * w.visible_share);
+    h += "</ul>\n";
+  }
   for (const auto& f : r.figures)
     if (f.name == "gap") h += FigureHtml(f);
   return h;
