@@ -498,6 +498,41 @@ TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
   EXPECT_EQ(fallback->gap_um, own->gap_um);
 }
 
+// Withheld `families` at 10x the noise (1 um), `trials` each (seed 11), on the cone piece with the
+// extra cones at these offsets (0: none): the observable trials and those named right.
+struct Named {
+  int counted = 0, correct = 0;
+  std::string markdown;
+};
+Result<Named> ValidateOnCones(double second_mm, double third_mm, std::vector<std::string> families, int trials) {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  if (!m.ok()) return m.status();
+  testpieces::PieceConfig config;
+  testpieces::ConeFrustumParams cone;
+  cone.base_size_mm = 380;
+  cone.second_cone_offset_mm = second_mm;
+  cone.third_cone_offset_mm = third_mm;
+  config.params = cone;
+  auto piece = testpieces::MakeTestPiece(config, *m);
+  if (!piece.ok()) return piece.status();
+  ValidationOptions v;
+  v.families = std::move(families);
+  v.magnitudes = {10.0};
+  v.noise_um = {1.0};
+  v.trials = trials;
+  v.seed = 11;
+  auto s = RunValidation(*piece, *m, v);
+  if (!s.ok()) return s.status();
+  Named out;
+  for (const auto& t : s->trials) {
+    if (!t.observable) continue;
+    ++out.counted;
+    out.correct += t.verdict == t.true_family ? 1 : 0;
+  }
+  out.markdown = ValidationMarkdown(*s);
+  return out;
+}
+
 // The validation harness on a small fixed-seed run: the targets where observable.
 // The enriched cone piece (testpieces/iso10791_pieces.h: a second cone 130 mm along +X, its own
 // flank pass): on one cone X, Y and C move together, so straightness of X and the radial motion of
@@ -505,31 +540,10 @@ TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
 // on the default 16-point sections: every straightness and rotary-error-motion trial is named
 // right (the 540-trial matrix in the README: 96 % and 100 % at >= 5x; on one cone 73 % and 36 %).
 TEST(Diagnosis, SecondConeSeparatesStraightnessFromRotaryErrorMotion) {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  ASSERT_TRUE(m.ok());
-  testpieces::PieceConfig config;
-  testpieces::ConeFrustumParams cone;
-  cone.base_size_mm = 380;
-  cone.second_cone_offset_mm = 130;
-  config.params = cone;
-  auto piece = testpieces::MakeTestPiece(config, *m);
-  ASSERT_TRUE(piece.ok()) << piece.status().message();
-  ValidationOptions v;
-  v.families = {"linear_straightness", "rotary_error_motion"};
-  v.magnitudes = {10.0};
-  v.noise_um = {1.0};
-  v.trials = 3;
-  v.seed = 11;
-  auto s = RunValidation(*piece, *m, v);
-  ASSERT_TRUE(s.ok()) << s.status().message();
-  int counted = 0, correct = 0;
-  for (const auto& t : s->trials) {
-    if (!t.observable) continue;
-    ++counted;
-    correct += t.verdict == t.true_family ? 1 : 0;
-  }
-  ASSERT_GE(counted, 3);
-  EXPECT_EQ(correct, counted) << ValidationMarkdown(*s);
+  auto r = ValidateOnCones(130, 0, {"linear_straightness", "rotary_error_motion"}, 3);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_GE(r->counted, 3);
+  EXPECT_EQ(r->correct, r->counted) << r->markdown;
 }
 
 // The third cone (130 mm along +Y): on two cones a first-harmonic angular positioning error of C
@@ -538,32 +552,10 @@ TEST(Diagnosis, SecondConeSeparatesStraightnessFromRotaryErrorMotion) {
 // quarter turn away the two fall on the pass with other phases. Withheld at 10x the noise (1 um),
 // 6 trials on 16-point sections: every trial is named rotary_positioning.
 TEST(Diagnosis, ThirdConeSeparatesRotaryPositioningFromStraightness) {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  ASSERT_TRUE(m.ok());
-  testpieces::PieceConfig config;
-  testpieces::ConeFrustumParams cone;
-  cone.base_size_mm = 380;
-  cone.second_cone_offset_mm = 130;
-  cone.third_cone_offset_mm = 130;
-  config.params = cone;
-  auto piece = testpieces::MakeTestPiece(config, *m);
-  ASSERT_TRUE(piece.ok()) << piece.status().message();
-  ValidationOptions v;
-  v.families = {"rotary_positioning"};
-  v.magnitudes = {10.0};
-  v.noise_um = {1.0};
-  v.trials = 6;
-  v.seed = 11;
-  auto s = RunValidation(*piece, *m, v);
-  ASSERT_TRUE(s.ok()) << s.status().message();
-  int counted = 0, correct = 0;
-  for (const auto& t : s->trials) {
-    if (!t.observable) continue;
-    ++counted;
-    correct += t.verdict == t.true_family ? 1 : 0;
-  }
-  ASSERT_EQ(counted, 6);
-  EXPECT_EQ(correct, counted) << ValidationMarkdown(*s);
+  auto r = ValidateOnCones(130, 130, {"rotary_positioning"}, 6);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_EQ(r->counted, 6);
+  EXPECT_EQ(r->correct, r->counted) << r->markdown;
 }
 
 // Observability in the validation is what the diagnosis can see: on the single cone a drift is

@@ -40,30 +40,22 @@ Status ConeFrustumParams::Validate() const {
   if (!(bottom_diameter_mm + 2 * end_mill_diameter_mm < base_size_mm)) {
     return BadCone("base_size_mm", base_size_mm, "the tool must stay over the base plate");
   }
-  if (!(std::isfinite(second_cone_offset_mm) && second_cone_offset_mm >= 0))
-    return BadCone("second_cone.offset_mm", second_cone_offset_mm, "must be 0 (one cone) or positive");
-  if (second_cone_offset_mm > 0) {
-    if (!(second_cone_offset_mm > bottom_diameter_mm + 2 * end_mill_diameter_mm))
-      return BadCone("second_cone.offset_mm", second_cone_offset_mm,
-                     "the two cones and the tool between them must not overlap (> bottom diameter + 2 tool diameters)");
-    if (!(2 * (second_cone_offset_mm + 0.5 * bottom_diameter_mm + end_mill_diameter_mm) < base_size_mm))
+  // An extra cone `offset` from the first (0: none): clear of it with a tool between, on the plate.
+  auto check_offset = [&](const char* key, const char* which, double offset) -> Status {
+    if (!(std::isfinite(offset) && offset >= 0)) return BadCone(key, offset, "must be 0 (none) or positive");
+    if (offset == 0) return Status::Ok();
+    if (!(offset > bottom_diameter_mm + 2 * end_mill_diameter_mm))
+      return BadCone(key, offset, "the cones and the tool between them must not overlap (> bottom diameter + 2 tool diameters)");
+    if (!(2 * (offset + 0.5 * bottom_diameter_mm + end_mill_diameter_mm) < base_size_mm))
       return BadCone("base_size_mm", base_size_mm,
-                     "the tool must stay over the base plate around the second cone (> 2 (offset + bottom radius + "
-                     "tool diameter))");
-  }
-  if (!(std::isfinite(third_cone_offset_mm) && third_cone_offset_mm >= 0))
-    return BadCone("third_cone.offset_mm", third_cone_offset_mm, "must be 0 (none) or positive");
-  if (third_cone_offset_mm > 0) {
-    if (!(second_cone_offset_mm > 0))
-      return BadCone("third_cone.offset_mm", third_cone_offset_mm, "needs the second cone (second_cone.offset_mm > 0)");
-    if (!(third_cone_offset_mm > bottom_diameter_mm + 2 * end_mill_diameter_mm))
-      return BadCone("third_cone.offset_mm", third_cone_offset_mm,
-                     "the cones and the tool between them must not overlap (> bottom diameter + 2 tool diameters)");
-    if (!(2 * (third_cone_offset_mm + 0.5 * bottom_diameter_mm + end_mill_diameter_mm) < base_size_mm))
-      return BadCone("base_size_mm", base_size_mm,
-                     "the tool must stay over the base plate around the third cone (> 2 (offset + bottom radius + "
-                     "tool diameter))");
-  }
+                     std::string("the tool must stay over the base plate around the ") + which +
+                         " cone (> 2 (offset + bottom radius + tool diameter))");
+    return Status::Ok();
+  };
+  TPCAL_RETURN_IF_ERROR(check_offset("second_cone.offset_mm", "second", second_cone_offset_mm));
+  TPCAL_RETURN_IF_ERROR(check_offset("third_cone.offset_mm", "third", third_cone_offset_mm));
+  if (third_cone_offset_mm > 0 && !(second_cone_offset_mm > 0))
+    return BadCone("third_cone.offset_mm", third_cone_offset_mm, "needs the second cone (second_cone.offset_mm > 0)");
   return Status::Ok();
 }
 
