@@ -35,6 +35,17 @@ Fixture Make() {
   return {*m, *piece};
 }
 
+// The standard single cone frustum (NAS 979) on the nominal A/C table.
+Fixture MakeCone() {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  EXPECT_TRUE(m.ok());
+  testpieces::PieceConfig config;
+  config.params = testpieces::ConeFrustumParams{};
+  auto piece = testpieces::MakeTestPiece(config, *m);
+  EXPECT_TRUE(piece.ok()) << piece.status().message();
+  return {*m, *piece};
+}
+
 // Seed 002 Table 2 (machining column) as the base errors of the simulated machine.
 kinematics::ErrorState Table2(const kinematics::MachineModel& m, const std::string& effects = "") {
   auto e = kinematics::ParseErrorState(
@@ -563,19 +574,14 @@ TEST(Diagnosis, ThirdConeSeparatesRotaryPositioningFromStraightness) {
 // fit absorbs it (gap at noise level); such trials count unobservable, not as misses named none.
 // On the turning piece the same family stays observable.
 TEST(Diagnosis, ValidationCountsWhatTheBaseFitAbsorbsAsUnobservable) {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  ASSERT_TRUE(m.ok());
-  testpieces::PieceConfig config;
-  config.params = testpieces::ConeFrustumParams{};
-  auto cone = testpieces::MakeTestPiece(config, *m);
-  ASSERT_TRUE(cone.ok()) << cone.status().message();
+  const Fixture cone = MakeCone();
   ValidationOptions v;
   v.families = {"thermal_drift"};
   v.magnitudes = {10.0};
   v.noise_um = {1.0};
   v.trials = 6;
   v.seed = 11;
-  auto s = RunValidation(*cone, *m, v);
+  auto s = RunValidation(cone.piece, cone.machine, v);
   ASSERT_TRUE(s.ok()) << s.status().message();
   for (const auto& t : s->trials) {
     EXPECT_FALSE(t.observable) << t.true_detail << ": verdict " << t.verdict;
@@ -592,14 +598,8 @@ TEST(Diagnosis, ValidationCountsWhatTheBaseFitAbsorbsAsUnobservable) {
 // in 59 and 60 of 60 trials), so the report names both with that share; the turning piece's least
 // visible family keeps 26 % and nothing is named. Noise 0.5 um, no effect, seeds fixed.
 TEST(Diagnosis, WeaklyObservableFamiliesAreNamed) {
-  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
-  ASSERT_TRUE(m.ok());
-  testpieces::PieceConfig config;
-  config.params = testpieces::ConeFrustumParams{};
-  auto cone = testpieces::MakeTestPiece(config, *m);
-  ASSERT_TRUE(cone.ok()) << cone.status().message();
-  const Fixture c{*m, *cone};
-  auto sim = Simulate(c, kinematics::ErrorState(*m), 0.5, 3);
+  const Fixture c = MakeCone();
+  auto sim = Simulate(c, kinematics::ErrorState(c.machine), 0.5, 3);
   ASSERT_TRUE(sim.ok()) << sim.status().message();
   auto d = Diagnose(c.piece, c.machine, sim->points);
   ASSERT_TRUE(d.ok()) << d.status().message();
