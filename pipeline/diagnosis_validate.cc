@@ -281,26 +281,6 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
                 continue;
               }
               for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
-              // The exact solve leaves a floor of about 0.01 um that does not scale with the
-              // effect: at unit size (peaks of ~1 um) it read as 2-3 % "visible" on effects the
-              // base absorbs entirely (drifts on the single cone, run at 30-50x and named none).
-              // The signature is taken at a 20 um peak instead (second-order terms ~ 4e-6 of it)
-              // and scaled back.
-              const double unit_peak_um = sig.cwiseAbs().maxCoeff();
-              if (unit_peak_um > 1e-6 && unit_peak_um < 20.0) {
-                const double up = 20.0 / unit_peak_um;
-                Withheld big = *w;
-                big.probe_um = 0.0;
-                big.Scale(up);
-                auto sim_big = testpieces::SimulatePiece(piece, machine, big.terms ? *big.terms : zero, [&] {
-                  testpieces::PieceSimOptions o;
-                  o.process = big.process;
-                  return o;
-                }());
-                if (sim_big.ok())
-                  for (Eigen::Index i = 0; i < n; ++i)
-                    sig(i) = MmToUm(sim_big->truth.deviation_mm[static_cast<std::size_t>(i)]) / up;
-              }
             }
             sig.array() += w->probe_um;
           }
