@@ -130,9 +130,9 @@ Command RegisterIdentify(CLI::App& app) {
       "Identify machine errors from a measured test piece.\n"
       "Every labelled CMM point is put in the part frame through the datum frame of the piece's inspection\n"
       "plan and fitted by least squares through the full kinematic chain (the cut each point came from).\n"
-      "Turning piece: the seed 002 Table 2 set (um, urad) with ISO 230-1 symbols, the closed-form solution\n"
-      "of the GD&T items beside it, and the C-axis radial/tilt error motions. 3-axis pieces: squareness and\n"
-      "the straightness profiles of the faces. Parameters the data cannot separate are reported as such,\n"
+      "Turning piece: the seed 002 Table 2 set and the X-Y squareness E_C(0X)Y (um, urad) with ISO 230-1\n"
+      "symbols, the closed-form solution of the GD&T items beside it, and the C-axis radial/tilt error motions.\n"
+      "3-axis pieces: squareness and the straightness profiles of the faces. Parameters the data cannot separate are reported as such,\n"
       "with the combinations that are determined. Uncertainty k = 1; 95 % intervals.");
   sub->add_option("POINTS", args->points, "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm)")->required();
   sub->add_option("--testpiece", args->testpiece, "test piece: " + names)->capture_default_str();
