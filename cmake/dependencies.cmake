@@ -33,3 +33,11 @@ target_include_directories(tpcal_occt SYSTEM INTERFACE ${OpenCASCADE_INCLUDE_DIR
 target_link_libraries(tpcal_occt INTERFACE TKSTEP TKSTEPBase TKSTEPAttr TKSTEP209 TKXSBase
   TKPrim TKBO TKTopAlgo TKBRep TKGeomAlgo TKG3d TKG2d TKGeomBase TKMath TKernel TKShHealing TKFillet TKOffset TKMesh)
 add_library(tpcal::occt ALIAS tpcal_occt)
+
+# libxxhash (Debian libxxhash-dev): the point-file digest of result.json.
+find_path(XXHASH_INCLUDE_DIR xxhash.h REQUIRED)
+find_library(XXHASH_LIBRARY xxhash REQUIRED)
+add_library(tpcal_xxhash INTERFACE)
+target_include_directories(tpcal_xxhash SYSTEM INTERFACE ${XXHASH_INCLUDE_DIR})
+target_link_libraries(tpcal_xxhash INTERFACE ${XXHASH_LIBRARY})
+add_library(tpcal::xxhash ALIAS tpcal_xxhash)

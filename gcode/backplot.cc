@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/units.h"
+#include "core/xml_escape.h"
 #include "gcode/nc_format.h"
 #include "kinematics/forward_kinematics.h"
 
@@ -56,18 +57,6 @@ std::string F2(double v) {
   char b[32];
   std::snprintf(b, sizeof(b), "%.2f", v);
   return b;
-}
-
-std::string Escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
 }
 
 void Line(const IrProgram& prog, const AxisState& a, const AxisState& b, bool rapid, int op, double seg_deg,
@@ -236,11 +225,11 @@ std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const s
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << F2(o.width_px) << "\" height=\"" << F2(height)
       << "\" viewBox=\"0 0 " << F2(o.width_px) << " " << F2(height) << "\" font-family=\"sans-serif\">\n";
   svg << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  svg << "<text x=\"" << F2(margin) << "\" y=\"28\" font-size=\"18\">" << Escape(title) << "</text>\n";
+  svg << "<text x=\"" << F2(margin) << "\" y=\"28\" font-size=\"18\">" << XmlEscape(title) << "</text>\n";
   for (int i = 0; i < 2; ++i) {
     const View& v = views[i];
     svg << "<g id=\"view" << i << "\">\n";
-    svg << "<text x=\"" << F2(v.x0) << "\" y=\"" << F2(title_h + 18) << "\" font-size=\"14\">" << Escape(v.title)
+    svg << "<text x=\"" << F2(v.x0) << "\" y=\"" << F2(title_h + 18) << "\" font-size=\"14\">" << XmlEscape(v.title)
         << "</text>\n";
     svg << "<rect x=\"" << F2(v.x0) << "\" y=\"" << F2(title_h + 30) << "\" width=\"" << F2(v.w) << "\" height=\""
         << F2(v.h) << "\" fill=\"none\" stroke=\"#cccccc\"/>\n";
@@ -301,7 +290,7 @@ std::string BackplotSvg(const IrProgram& prog, const BackplotOptions& o, const s
     svg << "<line x1=\"" << F2(margin) << "\" y1=\"" << F2(y) << "\" x2=\"" << F2(margin + 30) << "\" y2=\"" << F2(y)
         << "\" stroke=\"" << kPalette[k % 10] << "\" stroke-width=\"3\"/>\n";
     svg << "<text x=\"" << F2(margin + 40) << "\" y=\"" << F2(y + 4) << "\">OP " << k + 1 << " "
-        << Escape(prog.operation_names[k]) << " (" << Escape(tool) << ")</text>\n";
+        << XmlEscape(prog.operation_names[k]) << " (" << XmlEscape(tool) << ")</text>\n";
   }
   const double y = legend_y + 22.0 * n_ops;
   svg << "<line x1=\"" << F2(margin) << "\" y1=\"" << F2(y) << "\" x2=\"" << F2(margin + 30) << "\" y2=\"" << F2(y)

@@ -3,7 +3,7 @@
 //
 // Units: INCHES. LinuxCNC's standalone interpreter reads tool tables in inches whatever the INI
 // or the program says (checked here: a Z1.0 entry gives USE_TOOL_LENGTH_OFFSET 25.4 in a G21
-// program; /work/shared/NOTES.md), so mm values are divided by 25.4 and written with 8 decimals
+// program; gcode/DIALECTS.md), so mm values are divided by 25.4 and written with 8 decimals
 // (1e-8 in = 0.25 nm).
 #pragma once
 

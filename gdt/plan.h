@@ -1,7 +1,7 @@
 // InspectionPlan: what to fit and what to evaluate, as value types (no YAML here; the YAML
 // schema that fills these is gdt/PLAN_FORMAT.md, loaded by gdt/plan_yaml.h).
 //
-// A plan names features (labels of the point file, contracts README section 1), says which
+// A plan names features (labels of the point file, docs/formats/points.md), says which
 // primitive each is fitted as, how the datum reference frame is built from some of them, and
 // lists the characteristics (ISO 1101 concentricity, parallelism, ...) with their nominals.
 // Every spec keeps the 1-based line of the plan file it came from (0 when built in code), so

@@ -14,10 +14,10 @@
 
 #include <fmt/format.h>
 
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/run_output.h"
 #include "pipeline/run_tables.h"
-#include "pipeline/svg_writer.h"
+#include "pipeline/report/svg_writer.h"
 
 namespace tpcal::pipeline {
 namespace {

@@ -15,8 +15,8 @@
 
 #include <fmt/format.h>
 
-#include "pipeline/atomic_file.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/run_sample.h"
 
 namespace tpcal::pipeline {

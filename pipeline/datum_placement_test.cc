@@ -13,6 +13,7 @@
 #include "kinematics/error_state.h"
 #include "pipeline/identify_stage.h"
 #include "pipeline/piece_setup.h"
+#include "testpieces/default_parameters.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -26,7 +27,7 @@ constexpr double kSigmaTol_um = 0.15;  // sample sigma of a few hundred residual
 // term reaches that value at 100 mm of axis travel).
 Result<kinematics::ErrorState> SmallLocationErrors(const PieceSetup& setup) {
   kinematics::ErrorState errors(setup.machine);
-  const auto names = DefaultParameterSet(setup.piece, setup.machine);
+  const auto names = testpieces::DefaultParameterSet(setup.piece, setup.machine);
   auto active = kinematics::ActivateParameters(setup.machine, &errors, names);
   if (!active.ok()) return active.status();
   for (std::size_t k = 0; k < names.size(); ++k) {

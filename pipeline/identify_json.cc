@@ -1,8 +1,8 @@
 #include "pipeline/identify_json.h"
 
 #include "kinematics/machine_model.h"
-#include "pipeline/identification_blocks.h"
-#include "pipeline/json_util.h"
+#include "pipeline/report/identification_blocks.h"
+#include "pipeline/report/json_util.h"
 #include "pipeline/seed002_items.h"
 
 namespace tpcal::pipeline {

@@ -15,6 +15,7 @@
 #include "kinematics/error_parameters.h"
 #include "kinematics/machine_model.h"
 #include "pipeline/testing/turning_fixture.h"
+#include "testpieces/point_association.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -140,10 +141,10 @@ TEST(IdentifyStage, UnlabelledPointIsAnErrorWithItsLine) {
   ASSERT_TRUE(sim.ok());
   PointSet pts = sim->points;
   pts.source = "cmm.csv";
-  auto obs = ObservationsFromPoints(Turning(), pts, Rigid3::Identity());
+  auto obs = testpieces::AssociatePoints(Turning(), pts, Rigid3::Identity());
   ASSERT_TRUE(obs.ok());
   pts.feature[3] = PointSet::kUnlabelled;
-  auto bad = ObservationsFromPoints(Turning(), pts, Rigid3::Identity());
+  auto bad = testpieces::AssociatePoints(Turning(), pts, Rigid3::Identity());
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().ToString().find("cmm.csv"), std::string::npos) << bad.status().ToString();
 }

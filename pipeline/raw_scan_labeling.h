@@ -1,4 +1,4 @@
-// Raw-scan labelling: assigns each point of an unlabelled scan (contract section 1: "a file with
+// Raw-scan labelling: assigns each point of an unlabelled scan (docs/formats/points.md: "a file with
 // no labels at all is a raw scan"; coordinates in the CMM frame, the part anywhere, in any
 // orientation) to a nominal feature of the test piece, or leaves it unlabelled (outlier, a
 // surface the piece does not inspect).

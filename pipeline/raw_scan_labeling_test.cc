@@ -16,7 +16,7 @@
 #include <random>
 
 #include "kinematics/error_state.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/run_config.h"
 #include "testpieces/simulate_piece.h"
 

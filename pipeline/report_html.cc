@@ -5,8 +5,9 @@
 #include <cmath>
 
 #include "core/units.h"
+#include "core/xml_escape.h"
 #include "pipeline/run_config.h"
-#include "pipeline/svg_writer.h"
+#include "pipeline/report/svg_writer.h"
 #include "pipeline/version.h"
 
 namespace tpcal::pipeline {

@@ -11,7 +11,7 @@
 //                                           #   piece's standard set, pipeline/identify_stage.h)
 //   seed: 1                                 # Monte Carlo seed, written to every output
 //   uncertainty: {primary: jackknife_points, jackknife_groups: true, monte_carlo_trials: 2000}
-//   diagnose: true                          # gap diagnosis (pipeline/diagnosis.h) against the identified model
+//   diagnose: true                          # gap diagnosis (pipeline/diagnosis/diagnosis.h) against the identified model
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
 //   raw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80, 40]}  # optional: for a raw scan of a
 //                                           #   symmetric piece, the feature nearest this CMM point
@@ -31,7 +31,7 @@
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
 #include "pipeline/scan_cells.h"
-#include "pipeline/svg_figures.h"
+#include "pipeline/report/svg_figures.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {

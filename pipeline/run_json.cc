@@ -1,9 +1,9 @@
 #include "pipeline/run_json.h"
 
-#include "pipeline/diagnosis_json.h"
-#include "pipeline/fit_json.h"
-#include "pipeline/identification_blocks.h"
-#include "pipeline/json_util.h"
+#include "pipeline/report/diagnosis_json.h"
+#include "pipeline/report/fit_json.h"
+#include "pipeline/report/identification_blocks.h"
+#include "pipeline/report/json_util.h"
 #include "pipeline/version.h"
 
 namespace tpcal::pipeline {

@@ -20,7 +20,7 @@
 //     "fit": {"rms_before_um", "rms_after_um", "sigma_um", "iterations", "termination"},
 //     "alignment": {"rotation", "translation_mm"}},
 //   "figures": ["machine_errors", ...],
-//   "diagnosis": {... tpcal.diagnosis/1 (contracts README section 4, diagnosis_json.h) ...}
+//   "diagnosis": {... tpcal.diagnosis/1 (docs/formats/diagnosis_json.md) ...}
 //                (or {"error": "..."} when it could not be made; absent with diagnose: false)
 // }
 #pragma once

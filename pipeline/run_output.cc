@@ -13,7 +13,7 @@
 
 #include <fmt/format.h>
 
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/report_html.h"
 #include "pipeline/run_config.h"
 #include "pipeline/run_json.h"

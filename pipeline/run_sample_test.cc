@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "pipeline/atomic_file.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_json.h"
 #include "pipeline/run_stage.h"

@@ -6,12 +6,14 @@
 #include <memory>
 
 #include "kinematics/error_state.h"
-#include "pipeline/diagnosis.h"
-#include "pipeline/diagnosis_candidates.h"
-#include "pipeline/file_bytes.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/io/file_bytes.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
-#include "pipeline/xxh64.h"
+#include "pipeline/io/xxh64.h"
+#include "testpieces/default_parameters.h"
+#include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -82,7 +84,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   if (!inspection.ok()) return inspection.status();
 
   clock.Start("associate");
-  auto obs = ObservationsFromPoints(setup->piece, file->points, inspection->datum_from_cmm);
+  auto obs = testpieces::AssociatePoints(setup->piece, file->points, inspection->datum_from_cmm);
   if (!obs.ok()) return obs.status();
 
   std::optional<ScanCellSummary> scan_cells;
@@ -98,7 +100,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
 
   clock.Start("identify");
   std::vector<std::string> parameters =
-      config.parameters.empty() ? DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
+      config.parameters.empty() ? testpieces::DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
   kinematics::ErrorState base(setup->machine);
   auto active = kinematics::ActivateParameters(setup->machine, &base, parameters);
   if (!active.ok()) return active.status().WithLocation(config.source.empty() ? "--parameters" : config.source);

@@ -1,7 +1,7 @@
 // The whole pipeline of `tpcal run` for one point file: read the points, fit the features and
 // evaluate the piece's GD&T (datum frame from the measured features), associate every point with
 // the cut that made it, identify the machine errors with their uncertainties and identifiability,
-// diagnose the sim-to-real gap (pipeline/diagnosis.h: where, which unmodelled effect, how much
+// diagnose the sim-to-real gap (pipeline/diagnosis/diagnosis.h: where, which unmodelled effect, how much
 // the gap shrinks), then build the figures. The same steps as RunIdentifyStage (identify_stage.h), split so each
 // stage is timed and reported as progress. No file is written here (run_output.h writes).
 #pragma once
@@ -14,12 +14,12 @@
 #include <vector>
 
 #include "core/status.h"
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identify_stage.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_config.h"
-#include "pipeline/svg_figures.h"
+#include "pipeline/report/svg_figures.h"
 
 namespace tpcal::pipeline {
 

@@ -74,7 +74,7 @@ ScanCellSummary Summarise(const ScanCells& cells) {
   return s;
 }
 
-Result<std::optional<ScanCells>> ReduceToScanCells(const MeasuredObservations& per_point,
+Result<std::optional<ScanCells>> ReduceToScanCells(const testpieces::MeasuredObservations& per_point,
                                                    const ScanCellOptions& options) {
   if (Status s = options.Validate(); !s.ok()) return s;
   const std::vector<kinematics::Observation>& obs = per_point.observations;

@@ -16,7 +16,7 @@
 #include <optional>
 
 #include "core/status.h"
-#include "pipeline/identify_stage.h"
+#include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
 
@@ -43,7 +43,7 @@ struct ScanCellOptions {
 };
 
 struct ScanCells {
-  MeasuredObservations observations;        // one per cell; point_index: the representative point
+  testpieces::MeasuredObservations observations;        // one per cell; point_index: the representative point
   std::vector<std::uint32_t> cell_points;   // members of each cell
   std::size_t num_points = 0;               // points before the reduction
   std::size_t points_per_cell_max = 0;      // the cap used
@@ -64,7 +64,7 @@ ScanCellSummary Summarise(const ScanCells& cells);
 
 // Pools `per_point` (one observation per point, in file order) into scan-line cells. Returns
 // nullopt when the file is not above `options.above_points`. Errors: invalid options.
-Result<std::optional<ScanCells>> ReduceToScanCells(const MeasuredObservations& per_point,
+Result<std::optional<ScanCells>> ReduceToScanCells(const testpieces::MeasuredObservations& per_point,
                                                    const ScanCellOptions& options = {});
 
 }  // namespace tpcal::pipeline

@@ -23,6 +23,7 @@
 #include "gdt/inspection.h"
 #include "kinematics/error_parameters.h"
 #include "pipeline/testing/turning_fixture.h"
+#include "testpieces/point_association.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -49,8 +50,8 @@ kinematics::Observation LinePoint(int k, int group = 0, int op = 1) {
   return o;
 }
 
-MeasuredObservations Line(int n) {
-  MeasuredObservations m;
+testpieces::MeasuredObservations Line(int n) {
+  testpieces::MeasuredObservations m;
   m.feature_names = {"P"};
   for (int k = 0; k < n; ++k) {
     m.observations.push_back(LinePoint(k));
@@ -94,12 +95,12 @@ TEST(ScanCells, SmallFilesAreNotReduced) {
 }
 
 TEST(ScanCells, BreaksWhereTheCutChanges) {
-  auto count = [](const MeasuredObservations& m) {
+  auto count = [](const testpieces::MeasuredObservations& m) {
     auto cells = ReduceToScanCells(m, Always(100));
     EXPECT_TRUE(cells.ok() && cells->has_value());
     return (*cells)->cell_points.size();
   };
-  MeasuredObservations m = Line(10);
+  testpieces::MeasuredObservations m = Line(10);
   EXPECT_EQ(count(m), 1u);  // 10 points, 0.9 mm, 0.9 deg of C: one cell
   m.observations[5].group = 1;
   m.feature_names.push_back("Q");
@@ -150,7 +151,7 @@ DenseIdentification IdentifyDense(const std::map<std::string, double>& truth, do
   auto inspection = gdt::EvaluatePlan(piece.inspection, points->points);
   EXPECT_TRUE(inspection.ok()) << inspection.status().ToString();
   if (!inspection.ok()) return out;
-  auto obs = ObservationsFromPoints(piece, points->points, inspection->datum_from_cmm);
+  auto obs = testpieces::AssociatePoints(piece, points->points, inspection->datum_from_cmm);
   EXPECT_TRUE(obs.ok()) << obs.status().ToString();
   if (!obs.ok()) return out;
   ScanCellOptions o;

@@ -1,6 +1,6 @@
 // CMM probing plan of a test piece: nominal points and outward normals on every feature, each
 // with the machine state that cut it (kinematics::CutPoint from the cut-state association), and
-// the rows of the `tpcal plan v1` CSV (contracts README section 2) the pipeline writes.
+// the rows of the `tpcal plan v1` CSV (docs/formats/probing_plan.md) the pipeline writes.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,7 +33,7 @@ struct ProbingPlan {
 Result<ProbingPlan> MakeProbingPlan(const TestPiece& piece, const ProbingOptions& options);
 Result<ProbingPlan> MakeProbingPlan(const TestPiece& piece);
 
-// One row of the probing-plan CSV, in the DATUM frame (contracts section 2). Rotary angles in
+// One row of the probing-plan CSV, in the DATUM frame (docs/formats/probing_plan.md). Rotary angles in
 // degrees (A_deg and C_deg on A/C machines; B_deg on B/C machines), linear axes in mm.
 struct PlanRow {
   std::string feature;

@@ -24,7 +24,7 @@
 #include "gcode/post_program.h"
 #include "kinematics/machine_model.h"
 #include "kinematics/machine_yaml.h"
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/version.h"
 #include "testpieces/named_pieces.h"

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/identify_json.h"
 #include "pipeline/piece_setup.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "testpieces/named_pieces.h"
 

@@ -1,8 +1,8 @@
 // tpcal plan --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--density paper|dense|N]
 //            [--levels N] -o PLAN.csv [--step PIECE.step] [--write-config TP_OUT.yaml]
 //
-// Writes the CMM probing plan of a test piece as the `tpcal plan v1` CSV (contracts README
-// section 2): nominal points and outward normals in the part's DATUM frame, then op, t_s, the
+// Writes the CMM probing plan of a test piece as the `tpcal plan v1` CSV (docs/formats/probing_plan.md):
+// nominal points and outward normals in the part's DATUM frame, then op, t_s, the
 // rotary axes (A_deg/B_deg, C_deg: those the machine has), X_mm, Y_mm, Z_mm of the machine
 // state that cut each point. Thin: testpieces builds the piece and the plan, pipeline writes.
 #include <CLI/CLI.hpp>
@@ -15,10 +15,10 @@
 #include <variant>
 
 #include "kinematics/machine_yaml.h"
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "testpieces/brep.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
@@ -211,7 +211,7 @@ Command RegisterPlan(CLI::App& app) {
       "state that cut it: op (1 = first operation), t_s (s from the start of machining), the rotary axes in deg\n"
       "(A_deg, C_deg on A/C tables; B_deg on B/C), and X_mm, Y_mm, Z_mm of the tool reference point.");
   AddPieceOptions(sub, &args->piece, /*machine_required=*/false);
-  sub->add_option("-o,--output", args->out, "plan CSV to write (contracts README section 2)")->required();
+  sub->add_option("-o,--output", args->out, "plan CSV to write (docs/formats/probing_plan.md)")->required();
   sub->add_option("--step", args->step, "also write the nominal B-rep of the piece as AP214 STEP (part frame, mm)");
   sub->add_option("--write-config", args->write_config,
                   "also write the effective test-piece configuration (every key, defaults included) as YAML");

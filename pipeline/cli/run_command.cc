@@ -18,7 +18,7 @@
 #include "pipeline/run_config.h"
 #include "pipeline/run_output.h"
 #include "pipeline/run_stage.h"
-#include "pipeline/svg_figures.h"
+#include "pipeline/report/svg_figures.h"
 #include "testpieces/named_pieces.h"
 
 namespace tpcal::cli {

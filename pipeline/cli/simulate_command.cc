@@ -5,7 +5,7 @@
 // Virtual machining and measurement of a test piece (testpieces::SimulatePiece): every probing-
 // plan point solved on the surface the erroneous machine actually cut, then measured by a
 // virtual CMM (noise along the normal, probe-radius error, optional random placement). Writes
-// a `tpcal points v1` CSV (contracts README section 1) and, optionally, the stated truth.
+// a `tpcal points v1` CSV (docs/formats/points.md) and, optionally, the stated truth.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -20,10 +20,10 @@
 
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/process_effects_yaml.h"
 #include "testpieces/simulate_piece.h"
@@ -216,7 +216,7 @@ Command RegisterSimulate(CLI::App& app) {
   sub->add_option("--probe-radius-error-um", args->probe_radius_error_um,
                   "actual minus calibrated probe radius, um (every point moves outward along its normal)")
       ->capture_default_str();
-  sub->add_option("-o,--output", args->out, "point CSV to write (contracts README section 1)")->required();
+  sub->add_option("-o,--output", args->out, "point CSV to write (docs/formats/points.md)")->required();
   sub->add_option("--truth", args->truth, "also write the stated truth as YAML (schema tpcal.simulation_truth/1)");
   return {sub, [args] { return RunSimulate(*args); }};
 }

@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
@@ -14,9 +14,11 @@
 #include "core/tall_svd.h"
 #include "core/units.h"
 #include "gdt/inspection.h"
+#include "testpieces/default_parameters.h"
 #include "kinematics/identification.h"
-#include "pipeline/diagnosis_candidates.h"
-#include "pipeline/diagnosis_cv.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/diagnosis/diagnosis_cv.h"
+#include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -282,7 +284,7 @@ std::vector<Slot> DiagnosisSlotUnion(const kinematics::ErrorState& errors, const
 }
 
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                     const MeasuredObservations& mo, const DiagnosisOptions& options,
+                                     const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
                                      const Eigen::VectorXd* reference_dev_um) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
   const auto& obs = mo.observations;
@@ -292,7 +294,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
     return Status(StatusCode::kInvalidArgument, "diagnosis: a reference point file and reference machine errors together");
   const bool reference_mode = options.reference.has_value() || point_reference;
   std::vector<std::string> base_names =
-      options.base_parameters.empty() ? DefaultParameterSet(piece, machine) : options.base_parameters;
+      options.base_parameters.empty() ? testpieces::DefaultParameterSet(piece, machine) : options.base_parameters;
 
   // ---- 1. Base model: the base set fitted (Gauss-Newton, two linearisations), or the reference.
   kinematics::ErrorState errors = options.reference ? *options.reference : kinematics::ErrorState(machine);
@@ -831,38 +833,14 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
 // Labelled points of `points` (any placement) as observations in the nominal part frame (datum
 // frame from the piece's inspection plan). Points no cut of their feature reaches are skipped
 // ("file:line: why" in *skipped); unlabelled points and unknown features stay errors.
-Result<MeasuredObservations> ObservationsForDiagnosis(const testpieces::TestPiece& piece, const PointSet& points,
+Result<testpieces::MeasuredObservations> ObservationsForDiagnosis(const testpieces::TestPiece& piece, const PointSet& points,
                                                       std::vector<std::string>* skipped) {
   auto inspection = gdt::EvaluatePlan(piece.inspection, points);
   if (!inspection.ok()) return inspection.status();
-  auto obs = ObservationsFromPoints(piece, points, inspection->datum_from_cmm);
-  if (obs.ok()) return obs;
   // A point whose cut cannot be found (typically at a face edge, pushed out of the machined band
-  // by errors and noise) fails the whole conversion; the diagnosis keeps every other point and
-  // reports the skipped ones. Unknown features and unlabelled points stay errors.
-  MeasuredObservations kept;
-  std::map<int, int> group_of_label;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const int label = points.feature.empty() ? PointSet::kUnlabelled : points.feature[i];
-    if (label == PointSet::kUnlabelled) return obs.status();
-    const std::string& name = points.feature_names[static_cast<std::size_t>(label)];
-    if (!piece.Feature(name)) return obs.status();
-    const Eigen::Vector3d p_datum = inspection->datum_from_cmm * points.xyz_mm[i];
-    auto cut = testpieces::CutPointAtDatum(piece, name, p_datum);
-    if (!cut.ok()) {
-      skipped->push_back(Status(cut.status()).WithLocation(points.source, points.LineOf(i)).ToString());
-      continue;
-    }
-    auto [it, inserted] = group_of_label.try_emplace(label, static_cast<int>(kept.feature_names.size()));
-    if (inserted) kept.feature_names.push_back(name);
-    kinematics::Observation o;
-    o.cut = *cut;
-    o.measured_mm = piece.part_from_datum * p_datum;
-    o.group = it->second;
-    kept.observations.push_back(o);
-    kept.point_index.push_back(i);
-  }
-  return kept;
+  // by errors and noise) is left out and reported; unknown features and unlabelled points stay errors.
+  return testpieces::AssociatePoints(piece, points, inspection->datum_from_cmm, testpieces::UnreachedPoint::kSkip,
+                                     skipped);
 }
 
 }  // namespace
@@ -872,7 +850,7 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
                                                                  const DiagnosisOptions& options) {
   // As DiagnoseImpl's first linearisation (not in reference mode).
   const std::vector<std::string> base_names =
-      options.base_parameters.empty() ? DefaultParameterSet(piece, machine) : options.base_parameters;
+      options.base_parameters.empty() ? testpieces::DefaultParameterSet(piece, machine) : options.base_parameters;
   kinematics::ErrorState errors(machine);
   kinematics::ActiveSet active;
   if (!base_names.empty()) {
@@ -887,7 +865,7 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
 
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine,
-                                             const MeasuredObservations& observations, const DiagnosisOptions& options) {
+                                             const testpieces::MeasuredObservations& observations, const DiagnosisOptions& options) {
   return DiagnoseImpl(piece, machine, observations, options, nullptr);
 }
 
@@ -924,7 +902,7 @@ Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece
   for (std::size_t i = 0; i < mo->observations.size(); ++i)
     meas_of_feature[mo->feature_names[static_cast<std::size_t>(mo->observations[i].group)]].push_back(i);
   const double tol_mm = options.reference_match_mm;
-  auto nominal = [](const MeasuredObservations& m, std::size_t k) -> const Eigen::Vector3d& {
+  auto nominal = [](const testpieces::MeasuredObservations& m, std::size_t k) -> const Eigen::Vector3d& {
     return m.observations[k].cut.nominal_point_mm;
   };
   std::vector<long> match(mo->observations.size(), -1);  // reference observation of each measured one
@@ -954,7 +932,7 @@ Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece
       (by_order ? rm.matched_by_order : rm.matched_by_nearest) += 1;
     }
   }
-  MeasuredObservations kept;
+  testpieces::MeasuredObservations kept;
   std::vector<double> dev;
   std::map<int, int> group_map;
   for (std::size_t i = 0; i < mo->observations.size(); ++i) {

@@ -73,7 +73,7 @@
 #include "core/status.h"
 #include "kinematics/error_state.h"
 #include "kinematics/machine_model.h"
-#include "pipeline/identify_stage.h"
+#include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
@@ -81,7 +81,7 @@ namespace tpcal::pipeline {
 struct SlotDesign;  // diagnosis_candidates.h
 
 struct DiagnosisOptions {
-  std::vector<std::string> base_parameters;     // empty: DefaultParameterSet(piece, machine)
+  std::vector<std::string> base_parameters;     // empty: testpieces::DefaultParameterSet(piece, machine)
   // Reference mode: the "sim" is these machine errors (e.g. from a probing test); the base
   // parameters are not refitted (only the alignment), and a `location_errors` candidate (the
   // base set refitted) joins the catalogue.
@@ -153,7 +153,7 @@ struct BaseShift {     // change of an identified base coefficient when the effe
 };
 
 struct CandidateResult {
-  std::string family;  // contract vocabulary (contracts README section 4)
+  std::string family;  // vocabulary of docs/formats/diagnosis_json.md
   std::string name;
   int n_columns = 0;   // parameters of the model
   int rank = 0;        // directions left after projecting out the base (0 = unobservable)
@@ -202,7 +202,7 @@ struct Verdict {
 // The verdict and the runner-up (the best significant candidate of another family) fitted
 // together, when the top two are close: the pairwise ranking does not separate them by
 // prediction, or the runner-up still adds significantly beyond the verdict. The verdict itself
-// stays one family (contract section 4); this says how much more the pair explains.
+// stays one family (docs/formats/diagnosis_json.md); this says how much more the pair explains.
 struct PairFit {
   std::vector<std::string> families;  // verdict's, runner-up's
   std::vector<std::string> names;
@@ -261,7 +261,7 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
 // Diagnosis of observations already in the nominal part frame (identify_stage.h).
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine,
-                                             const MeasuredObservations& observations,
+                                             const testpieces::MeasuredObservations& observations,
                                              const DiagnosisOptions& options = {});
 
 // Measured CMM points (any placement): datum frame from the piece's inspection plan, then

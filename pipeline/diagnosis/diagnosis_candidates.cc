@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis_candidates.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
 
 #include <algorithm>
 #include <cmath>
@@ -318,7 +318,7 @@ Result<std::vector<Slot>> CandidateSlots(const testpieces::TestPiece& piece, con
 
 Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const kinematics::ErrorState& errors,
-                                           const MeasuredObservations& mo,
+                                           const testpieces::MeasuredObservations& mo,
                                            const std::vector<std::string>& base_names, bool reference_mode,
                                            const SlotDesign* design) {
   CandidateCatalogue out;

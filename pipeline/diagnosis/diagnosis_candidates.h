@@ -37,7 +37,7 @@
 #include "kinematics/identification.h"
 #include "kinematics/jacobians.h"
 #include "kinematics/machine_model.h"
-#include "pipeline/identify_stage.h"
+#include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
@@ -116,7 +116,7 @@ Result<std::vector<Slot>> CandidateSlots(const testpieces::TestPiece& piece, con
 // linearised here.
 Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const kinematics::ErrorState& errors,
-                                           const MeasuredObservations& observations,
+                                           const testpieces::MeasuredObservations& observations,
                                            const std::vector<std::string>& base_names, bool reference_mode,
                                            const SlotDesign* design = nullptr);
 

@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis_candidates.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
 
 #include <gtest/gtest.h>
 

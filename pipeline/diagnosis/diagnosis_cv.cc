@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis_cv.h"
+#include "pipeline/diagnosis/diagnosis_cv.h"
 
 #include <Eigen/Eigenvalues>
 #include <cassert>

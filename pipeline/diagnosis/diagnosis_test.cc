@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 #include "testpieces/iso10791_pieces.h"
 
 #include <gtest/gtest.h>
@@ -13,9 +13,10 @@
 
 #include "gdt/inspection.h"
 #include "kinematics/errors_yaml.h"
-#include "pipeline/diagnosis_candidates.h"
-#include "pipeline/diagnosis_json.h"
-#include "pipeline/diagnosis_validate.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/report/diagnosis_json.h"
+#include "pipeline/diagnosis/diagnosis_validate.h"
+#include "testpieces/point_association.h"
 #include "testpieces/probing_plan.h"
 #include "testpieces/simulate_piece.h"
 
@@ -68,13 +69,13 @@ Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::
 
 // The piece simulated with `errors` (placement random, noise seeded), as observations in the
 // nominal part frame through the datum of its inspection plan.
-Result<MeasuredObservations> SimulatedObservations(const Fixture& f, const kinematics::ErrorState& errors,
+Result<testpieces::MeasuredObservations> SimulatedObservations(const Fixture& f, const kinematics::ErrorState& errors,
                                                    double noise_um, std::uint64_t seed) {
   auto sim = Simulate(f, errors, noise_um, seed);
   if (!sim.ok()) return sim.status();
   auto inspection = gdt::EvaluatePlan(f.piece.inspection, sim->points);
   if (!inspection.ok()) return inspection.status();
-  return ObservationsFromPoints(f.piece, sim->points, inspection->datum_from_cmm);
+  return testpieces::AssociatePoints(f.piece, sim->points, inspection->datum_from_cmm);
 }
 
 // "Where it lies": the C harmonics of each circular profile, the groups by operation and by A

@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis_validate.h"
+#include "pipeline/diagnosis/diagnosis_validate.h"
 
 #include <fmt/format.h>
 
@@ -12,9 +12,9 @@
 #include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/identification.h"
-#include "pipeline/diagnosis.h"
-#include "pipeline/diagnosis_cv.h"
-#include "pipeline/identify_stage.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis_cv.h"
+#include "testpieces/default_parameters.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -192,7 +192,7 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
   const auto n = static_cast<Eigen::Index>(plan->points.size());
 
   // The base design at zero errors on the nominal plan: what the diagnosis's base absorbs.
-  const std::vector<std::string> base_names = DefaultParameterSet(piece, machine);
+  const std::vector<std::string> base_names = testpieces::DefaultParameterSet(piece, machine);
   kinematics::ErrorState zero(machine);
   kinematics::ErrorState base_state(machine);
   auto base_active = kinematics::ActivateParameters(machine, &base_state, base_names);

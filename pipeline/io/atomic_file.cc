@@ -1,4 +1,4 @@
-#include "pipeline/atomic_file.h"
+#include "pipeline/io/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,4 +1,4 @@
-#include "pipeline/file_bytes.h"
+#include "pipeline/io/file_bytes.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "pipeline/large_alloc.h"
+#include "pipeline/io/large_alloc.h"
 
 namespace tpcal::pipeline {
 namespace {

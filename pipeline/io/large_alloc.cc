@@ -1,4 +1,4 @@
-#include "pipeline/large_alloc.h"
+#include "pipeline/io/large_alloc.h"
 
 #include <sys/mman.h>
 #include <unistd.h>

@@ -16,10 +16,10 @@
 #include <cstring>
 
 #include "core/units.h"
-#include "pipeline/atomic_file.h"
-#include "pipeline/file_bytes.h"
-#include "pipeline/point_io.h"
-#include "pipeline/point_text_parser.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/file_bytes.h"
+#include "pipeline/io/point_io.h"
+#include "pipeline/io/point_text_parser.h"
 
 namespace tpcal::pipeline {
 namespace {

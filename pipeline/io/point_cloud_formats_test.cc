@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/units.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
 namespace {

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "core/units.h"
-#include "pipeline/file_bytes.h"
-#include "pipeline/large_alloc.h"
-#include "pipeline/point_io.h"
-#include "pipeline/point_text_parser.h"
+#include "pipeline/io/file_bytes.h"
+#include "pipeline/io/large_alloc.h"
+#include "pipeline/io/point_io.h"
+#include "pipeline/io/point_text_parser.h"
 
 namespace tpcal::pipeline {
 namespace internal {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/units.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
 namespace {

@@ -5,8 +5,8 @@
 #include <charconv>
 #include <cmath>
 
-#include "pipeline/atomic_file.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
 namespace {

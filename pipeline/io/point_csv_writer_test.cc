@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
 namespace {

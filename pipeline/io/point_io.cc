@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
 
@@ -15,17 +15,6 @@ const char* PointFormatName(PointFormat format) {
     case PointFormat::kPly: return "ply";
     case PointFormat::kPcd: return "pcd";
     case PointFormat::kXyz: return "xyz";
-  }
-  return "unknown";
-}
-
-const char* CacheOutcomeName(CacheOutcome outcome) {
-  switch (outcome) {
-    case CacheOutcome::kNotUsed: return "not used";
-    case CacheOutcome::kHit: return "hit";
-    case CacheOutcome::kMissing: return "missing";
-    case CacheOutcome::kStale: return "stale";
-    case CacheOutcome::kCorrupt: return "corrupt";
   }
   return "unknown";
 }

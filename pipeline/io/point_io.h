@@ -1,6 +1,6 @@
 // Point-cloud input and output: the `tpcal points v1` / `tpcal plan v1` CSV files of the
-// contract (/work/shared/contracts/README.md, sections 1 and 2), PLY and PCD through PCL,
-// plain `x y z [i j k]` text, and a binary cache for re-runs. Every PointSet returned is in mm
+// formats docs/formats/points.md and docs/formats/probing_plan.md, PLY and PCD through PCL,
+// plain `x y z [i j k]` text. Every PointSet returned is in mm
 // (inch files are converted on read) with unit normals (or none).
 //
 // CSV dialect (decisions this reader makes where the contract is silent):
@@ -68,17 +68,12 @@ struct PointReadOptions {
   Status Validate() const;
 };
 
-enum class CacheOutcome { kNotUsed, kHit, kMissing, kStale, kCorrupt };
-const char* CacheOutcomeName(CacheOutcome outcome);
-
 struct PointFileInfo {
   PointFormat format = PointFormat::kAuto;
   PointFileKind kind = PointFileKind::kUntagged;
   LengthUnit source_units = LengthUnit::kMm;  // units of the file (data returned in mm)
   std::uint64_t bytes = 0;                     // size of the source file
-  int chunks = 1;  // text chunks parsed in parallel (1 = serial; 0 = loaded from the cache)
-  CacheOutcome cache = CacheOutcome::kNotUsed;
-  Status cache_write;  // non-OK if a cache was due but could not be written (read still OK)
+  int chunks = 1;  // text chunks parsed in parallel (1 = serial)
 };
 
 struct PointFile {
@@ -91,7 +86,7 @@ struct PointFile {
 Result<PointFile> ReadPointFile(const std::string& path, const PointReadOptions& options = {});
 Result<PointSet> ReadPoints(const std::string& path, const PointReadOptions& options = {});
 
-// CSV (contract sections 1 and 2) from a file or from text already in memory; `source_name`
+// CSV (docs/formats/points.md, docs/formats/probing_plan.md) from a file or from text already in memory; `source_name`
 // is used in errors and as PointSet::source.
 Result<PointFile> ReadPointCsv(const std::string& path, const PointReadOptions& options = {});
 Result<PointFile> ParsePointCsv(std::string_view text, const std::string& source_name,
@@ -139,32 +134,6 @@ Status WritePointPly(const std::string& path, const PointSet& points,
                      const PointWriteOptions& options = {});
 Status WritePointPcd(const std::string& path, const PointSet& points,
                      const PointWriteOptions& options = {});
-
-// ---- binary cache (point_cache.cc) -----------------------------------------------------
-// A cache file holds one parsed PointFile and the key of the source it came from:
-// canonical absolute path, size, mtime (ns), a digest of the read options that change the
-// result, and a content hash (XXH64) of the source bytes. kFull hashes the whole source
-// (XXH64 runs at ~14 GB/s; the source read dominates; done on a second thread while the cache
-// loads) and catches any edit; kEnds hashes only the first and last 64 KiB and trusts
-// size + mtime for the middle (an edit there that keeps both is not seen). The cache payload carries its own XXH64, so a
-// truncated or corrupt cache is detected. Stale or corrupt caches are ignored, the source is
-// parsed and the cache rewritten atomically. A cache that cannot be written does not fail
-// the read (see PointFileInfo::cache_write). Native little-endian layout, versioned.
-enum class CacheVerify { kFull, kEnds };
-
-struct PointCacheOptions {
-  std::string cache_dir;  // empty: beside the source as `<source>.tpcache`
-  CacheVerify verify = CacheVerify::kFull;
-  bool write = true;      // write/refresh the cache after a miss
-};
-
-// Cache file name for `source_path`: `<source>.tpcache`, or
-// `<cache_dir>/<file name>.<16 hex of hash(absolute path)>.tpcache`.
-std::string PointCachePath(const std::string& source_path, const PointCacheOptions& cache);
-
-// ReadPointFile through the cache. info.cache says what happened.
-Result<PointFile> ReadPointFileCached(const std::string& path, const PointReadOptions& options,
-                                      const PointCacheOptions& cache = {});
 
 // ---- helpers for later stages ----------------------------------------------------------
 // 1-based source line of the first point labelled `feature_index`, or 0 if none/unknown

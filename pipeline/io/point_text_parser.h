@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "core/status.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline::internal {
 

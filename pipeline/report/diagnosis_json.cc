@@ -1,10 +1,11 @@
-#include "pipeline/diagnosis_json.h"
+#include "pipeline/report/diagnosis_json.h"
 
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
-#include "pipeline/json_util.h"
+#include "core/xml_escape.h"
+#include "pipeline/report/json_util.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -26,17 +27,6 @@ json ParametersJson(const std::vector<EffectParameter>& ps) {
     json e = {{"value", OrNull(p.identifiable, p.value)}, {"u", OrNull(p.identifiable, p.u)}, {"unit", p.unit}};
     if (!p.identifiable) e["identifiable"] = false;
     o[p.name] = e;
-  }
-  return o;
-}
-
-std::string Escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else o += c;
   }
   return o;
 }
@@ -233,23 +223,23 @@ std::string DiagnosisText(const DiagnosisResult& r) {
 }
 
 std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
-  std::string o = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + Escape(title) +
+  std::string o = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + XmlEscape(title) +
                   "</title><style>body{font-family:sans-serif}table{border-collapse:collapse}td,th{border:1px "
                   "solid #999;padding:2px 6px;text-align:right}td.l{text-align:left}.hi{background:#fdd}</style>"
-                  "</head><body>\n<h1>" + Escape(title) + "</h1>\n";
-  o += "<h2>Verdict</h2><p><b>" + Escape(r.verdict.family) + "</b>: " + Escape(r.verdict.name) +
+                  "</head><body>\n<h1>" + XmlEscape(title) + "</h1>\n";
+  o += "<h2>Verdict</h2><p><b>" + XmlEscape(r.verdict.family) + "</b>: " + XmlEscape(r.verdict.name) +
        fmt::format(" (shrink {:.1f} % in-sample, {:.1f} % cross-validated)", r.verdict.shrink_pct, r.verdict.cv_shrink_pct) +
        "</p>\n";
   if (!r.verdict.indistinguishable_from.empty()) {
     o += "<p>Cannot be told apart on this piece and plan from:";
-    for (const auto& f : r.verdict.indistinguishable_from) o += " " + Escape(f);
+    for (const auto& f : r.verdict.indistinguishable_from) o += " " + XmlEscape(f);
     o += "</p>\n";
   }
-  o += "<h2>Gap</h2><pre>" + Escape(DiagnosisText(r)) + "</pre>\n";
+  o += "<h2>Gap</h2><pre>" + XmlEscape(DiagnosisText(r)) + "</pre>\n";
   o += "<h2>Gap by feature</h2><table><tr><th>feature</th><th>n</th><th>rms um</th><th>max um</th><th>mean um</th><th>z</th></tr>\n";
   for (const auto& g : r.by_feature)
     o += fmt::format("<tr{}><td class=l>{}</td><td>{}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>\n",
-                     g.stands_out ? " class=hi" : "", Escape(g.group), g.n_points, g.rms_um, g.max_abs_um, g.mean_um, g.z);
+                     g.stands_out ? " class=hi" : "", XmlEscape(g.group), g.n_points, g.rms_um, g.max_abs_um, g.mean_um, g.z);
   o += "</table>\n</body></html>\n";
   return o;
 }

@@ -1,4 +1,4 @@
-// Output of the diagnosis: the `tpcal.diagnosis/1` JSON (contracts README section 4; the keys
+// Output of the diagnosis: the `tpcal.diagnosis/1` JSON (docs/formats/diagnosis_json.md; the keys
 // there in that form, plus documented extras) and a readable report (plain text and HTML).
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 
 namespace tpcal::pipeline {
 

@@ -1,11 +1,11 @@
-#include "pipeline/fit_json.h"
+#include "pipeline/report/fit_json.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <type_traits>
 
 #include "core/units.h"
-#include "pipeline/json_util.h"
+#include "pipeline/report/json_util.h"
 
 namespace tpcal::pipeline {
 namespace {

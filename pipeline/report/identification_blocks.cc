@@ -1,9 +1,9 @@
-#include "pipeline/identification_blocks.h"
+#include "pipeline/report/identification_blocks.h"
 
 #include <map>
 #include <string>
 
-#include "pipeline/json_util.h"
+#include "pipeline/report/json_util.h"
 
 namespace tpcal::pipeline {
 namespace {

@@ -1,4 +1,4 @@
-#include "pipeline/svg_figures.h"
+#include "pipeline/report/svg_figures.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pipeline/svg_writer.h"
+#include "pipeline/report/svg_writer.h"
 
 namespace tpcal::pipeline {
 namespace {

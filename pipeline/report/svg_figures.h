@@ -21,7 +21,7 @@
 #include "gdt/inspection.h"
 #include "gdt/plan.h"
 #include "kinematics/identification.h"
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 
 namespace tpcal::pipeline {
 

@@ -1,6 +1,6 @@
 // SVG writer and figures: escaping, tick steps, and figures that only exist when there is
 // something to draw (never an empty figure).
-#include "pipeline/svg_figures.h"
+#include "pipeline/report/svg_figures.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pipeline/svg_writer.h"
+#include "pipeline/report/svg_writer.h"
 
 namespace tpcal::pipeline {
 namespace {

@@ -1,4 +1,5 @@
-#include "pipeline/svg_writer.h"
+#include "pipeline/report/svg_writer.h"
+#include "core/xml_escape.h"
 
 #include <fmt/format.h>
 
@@ -7,22 +8,6 @@
 #include <utility>
 
 namespace tpcal::pipeline {
-
-std::string XmlEscape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 double NiceStep(double span, int target_ticks) {
   if (!(span > 0) || !std::isfinite(span)) return 1.0;

@@ -11,8 +11,6 @@
 
 namespace tpcal::pipeline {
 
-// Escapes & < > " ' for XML text and attribute values.
-std::string XmlEscape(std::string_view text);
 
 // "Nice" tick step (1, 2 or 5 x 10^k) so that about `target_ticks` steps cover `span` (> 0).
 double NiceStep(double span, int target_ticks = 5);

@@ -11,7 +11,7 @@
 #include <cstdio>
 
 #include "kinematics/errors_yaml.h"
-#include "pipeline/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identify_stage.h"
 #include "testpieces/simulate_piece.h"
 

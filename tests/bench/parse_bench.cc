@@ -7,7 +7,6 @@
 //   parse x1  : ParsePointCsv on the in-memory text, 1 thread
 //   parse xN  : the same with all hardware threads
 //   file x1/xN: ReadPointCsv (read + parse)
-//   cache     : ReadPointFileCached hit, CacheVerify::kFull and kEnds
 // Usage: parse_bench [--points N] [--repeat R] [--threads T] [--keep]
 #include <fmt/format.h>
 #include <unistd.h>
@@ -23,9 +22,9 @@
 #include <string>
 #include <thread>
 
-#include "pipeline/atomic_file.h"
-#include "pipeline/file_bytes.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/file_bytes.h"
+#include "pipeline/io/point_io.h"
 
 namespace {
 
@@ -139,36 +138,6 @@ int main(int argc, char** argv) {
   const Timing t_file1 = Best(repeat, [&] { read_parse(one); });
   const Timing t_fileN = Best(repeat, [&] { read_parse(all); });
 
-  PointCacheOptions full;
-  PointCacheOptions ends;
-  ends.verify = CacheVerify::kEnds;
-  const std::string cache_path = PointCachePath(path, full);
-  fs::remove(cache_path);
-  Timing t_miss;
-  {
-    const double c0 = CpuSeconds();
-    const auto t0 = Clock::now();
-    Result<PointFile> r = ReadPointFileCached(path, all, full);
-    t_miss = {std::chrono::duration<double>(Clock::now() - t0).count(), CpuSeconds() - c0};
-    if (!r.ok()) Die(r.status());
-    if (r->info.cache != CacheOutcome::kMissing || !r->info.cache_write.ok()) {
-      fmt::print(stderr, "parse_bench: cache not written: {}\n", r->info.cache_write.ToString());
-      return 1;
-    }
-  }
-  const double cache_mb = static_cast<double>(fs::file_size(cache_path)) / 1e6;
-  auto hit = [&](const PointCacheOptions& c) {
-    Result<PointFile> r = ReadPointFileCached(path, all, c);
-    if (!r.ok()) Die(r.status());
-    if (r->info.cache != CacheOutcome::kHit) {
-      fmt::print(stderr, "parse_bench: expected a cache hit, got {}\n", CacheOutcomeName(r->info.cache));
-      std::exit(1);
-    }
-    check += r->points.size();
-  };
-  const Timing t_hit_full = Best(repeat, [&] { hit(full); });
-  const Timing t_hit_ends = Best(repeat, [&] { hit(ends); });
-
   auto row = [&](const std::string& name, const Timing& t) {
     fmt::print("  {:<34} {:8.1f} ms {:7.0f} MB/s {:6.2f} x read | cpu {:8.1f} ms {:7.0f} MB/cpu-s\n", name,
                t.wall_s * 1e3, mb / t.wall_s, t.wall_s / t_read.wall_s, t.cpu_s * 1e3, mb / t.cpu_s);
@@ -180,13 +149,7 @@ int main(int argc, char** argv) {
   row(fmt::format("parse in memory, {} threads", hw), t_parseN);
   row("read + parse, 1 thread", t_file1);
   row(fmt::format("read + parse, {} threads", hw), t_fileN);
-  row("cache miss (parse + hash + write)", t_miss);
-  row("cache hit, verify kFull", t_hit_full);
-  row("cache hit, verify kEnds", t_hit_ends);
-  fmt::print("ratios: parse speed-up x{} / x1 {:.2f} (wall); cache hit (kFull) vs read+parse x1: {:.1f}x faster "
-             "(wall), {:.1f}x less CPU; cache file {:.1f} MB\n",
-             hw, t_parse1.wall_s / t_parseN.wall_s, t_file1.wall_s / t_hit_full.wall_s,
-             t_file1.cpu_s / t_hit_full.cpu_s, cache_mb);
+  fmt::print("ratios: parse speed-up x{} / x1 {:.2f} (wall)\n", hw, t_parse1.wall_s / t_parseN.wall_s);
   fmt::print("load average at the end: {}", [] {
     std::string la;
     if (FILE* f = std::fopen("/proc/loadavg", "r")) {

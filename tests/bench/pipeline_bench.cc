@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "core/allocator.h"
-#include "pipeline/atomic_file.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/run_config.h"
 #include "pipeline/run_output.h"
 #include "pipeline/run_sample.h"

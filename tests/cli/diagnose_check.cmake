@@ -1,7 +1,7 @@
 # CTest driver of `tpcal diagnose` (pipeline/CMakeLists.txt, "diagnose CLI tests").
 # -DTPCAL=<exe> -DPOINTS=<file> -DOUT=<json> [-DREFERENCE=<errors.yaml|points>] -DEXPECT_FAMILY=<family> | -DEXPECT_EXIT=<code>
 # Runs the command, checks the exit code, and for a successful run the tpcal.diagnosis/1 JSON:
-# schema, the required keys of contracts README section 4, the feature cross-validation block,
+# schema, the required keys of docs/formats/diagnosis_json.md, the feature cross-validation block,
 # the verdict family, and with a reference point file the point matching (every point matched).
 file(REMOVE "${OUT}")
 set(ref_args "")

@@ -1,11 +1,11 @@
-// `tpcal plan`: the CSV is contracts README section 2 exactly (tag, units, column names and
+// `tpcal plan`: the CSV is docs/formats/probing_plan.md exactly (tag, units, column names and
 // order), reads back through pipeline::ReadPointFile bit for bit against the library's plan rows,
 // is accepted as a point file by `tpcal fit`; density and --step work; bad input exits 2 with
 // file:line and writes nothing.
 #include <set>
 
 #include "kinematics/machine_yaml.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/probing_plan.h"
 #include "tests/cli/plan_simulate_run.h"
@@ -81,7 +81,7 @@ TEST_F(PlanCli, TurningPlanIsContractSection2AndMatchesTheLibrary) {
     EXPECT_EQ(a->values[i], swivelled ? -90.0 : 0.0) << f;
   }
 
-  // The plan is a point file every command accepts (contract section 2, last paragraph).
+  // The plan is a point file every command accepts (docs/formats/probing_plan.md).
   const RunResult fit = Run("fit plan.csv --plan " + Source("samples/plans/turning.yaml"));
   EXPECT_EQ(fit.exit_code, 0) << fit.err;
   EXPECT_NE(fit.out.find("t5_concentricity_S4_SR"), std::string::npos);

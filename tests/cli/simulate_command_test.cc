@@ -9,7 +9,7 @@
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/machine_yaml.h"
-#include "pipeline/point_io.h"
+#include "pipeline/io/point_io.h"
 #include "testpieces/probing_plan.h"
 #include "tests/cli/plan_simulate_run.h"
 
