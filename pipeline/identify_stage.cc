@@ -1,17 +1,104 @@
 #include "pipeline/identify_stage.h"
 
-#include <algorithm>
 #include <map>
+#include <utility>
 
 #include "kinematics/error_state.h"
+#include "pipeline/diagnosis/diagnosis.h"
 #include "testpieces/default_parameters.h"
 #include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
+namespace {
+
+struct Associated {
+  testpieces::MeasuredObservations observations;
+  std::optional<ScanCellSummary> scan_cells;
+};
+
+// Points to observations in the datum frame `datum_from_cmm`, pooled into scan-line cells when
+// the file is dense.
+Result<Associated> Associate(const testpieces::TestPiece& piece, const PointSet& measured, const Rigid3& datum_from_cmm,
+                             const IdentifyStageOptions& options, bool announce) {
+  if (announce && options.on_step) options.on_step("associate");
+  auto obs = testpieces::AssociatePoints(piece, measured, datum_from_cmm);
+  if (!obs.ok()) return obs.status();
+  Associated out{std::move(*obs), std::nullopt};
+  const ScanCellOptions& cells_options = options.scan_cells;
+  if (cells_options.above_points == 0 || out.observations.observations.size() <= cells_options.above_points)
+    return out;
+  if (announce && options.on_step) options.on_step("scan cells");
+  auto cells = ReduceToScanCells(out.observations, cells_options);
+  if (!cells.ok()) return cells.status();
+  if (*cells) {
+    out.scan_cells = Summarise(**cells);
+    out.observations = std::move((*cells)->observations);
+  }
+  return out;
+}
+
+// One slot linearisation at the nominal machine for the base set and every diagnosis candidate:
+// the identification's first design (by the chain rule to its coefficients) and the diagnosis's,
+// one pass over the observations for both.
+Result<std::shared_ptr<const SlotDesign>> NominalSlotDesign(const testpieces::TestPiece& piece,
+                                                            const kinematics::MachineModel& machine,
+                                                            const kinematics::ErrorState& base,
+                                                            const kinematics::ActiveSet& active,
+                                                            const std::vector<std::string>& parameters,
+                                                            const testpieces::MeasuredObservations& obs,
+                                                            kinematics::IdentifyOptions* identify) {
+  DiagnosisOptions diagnosis;
+  diagnosis.base_parameters = parameters;
+  auto slots = NominalDiagnosisSlots(piece, machine, diagnosis);
+  if (!slots.ok()) return slots.status();
+  AddSlots(SlotsOf(base, active.coefficients), &*slots);
+  auto shared = LineariseSlots(machine, base, *slots, obs.observations);
+  if (!shared.ok()) return shared.status();
+  auto J = CoefficientColumns(*shared, base, active.coefficients, obs.observations);
+  if (!J.ok()) return J.status();
+  auto lin0 = std::make_shared<kinematics::LinearDesign>();
+  lin0->J_dev_params = std::move(*J);
+  lin0->J_dev_alignment = shared->lin.J_dev_alignment;
+  lin0->measured_dev_um = shared->lin.measured_dev_um;
+  lin0->predicted_dev_um = shared->lin.predicted_dev_um;
+  identify->initial_design = std::move(lin0);
+  return std::make_shared<const SlotDesign>(std::move(*shared));
+}
+
+// Reports the parameters under the names asked for (seed 002 keeps "beta_ZX" where the catalog
+// term is "E_B(0X)Z"; the ISO symbol stays beside it).
+void NameAsAsked(const kinematics::ErrorState& base, const kinematics::ActiveSet& active,
+                 const std::vector<std::string>& parameters, kinematics::IdentificationResult* id) {
+  std::map<std::string, std::string> rename;
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const std::string& coefficient = base.coefficient_info(active.coefficients[k]).name;
+    if (coefficient != parameters[k]) rename[coefficient] = parameters[k];
+  }
+  auto renamed = [&](std::string* name) {
+    if (auto it = rename.find(*name); it != rename.end()) *name = it->second;
+  };
+  auto renamed_text = [&](std::string* text) {
+    for (const auto& [from, to] : rename)
+      for (std::size_t at = text->find(from); at != std::string::npos; at = text->find(from, at + to.size()))
+        text->replace(at, from.size(), to);
+  };
+  for (auto& p : id->parameters) renamed(&p.name);
+  auto& ident = id->identifiability;
+  for (auto& n : ident.not_identifiable) renamed(&n);
+  for (auto* combos : {&ident.estimable, &ident.null_directions})
+    for (auto& c : *combos) {
+      for (auto& n : c.names) renamed(&n);
+      renamed_text(&c.text);
+    }
+}
+
+}  // namespace
 
 Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine, const PointSet& measured,
                                              const IdentifyStageOptions& options) {
+  TPCAL_RETURN_IF_ERROR(options.scan_cells.Validate());
+  if (options.on_step) options.on_step("gdt");
   auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
   if (!inspection.ok()) return inspection.status();
   std::vector<std::string> parameters =
@@ -31,14 +118,22 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
   first.primary = kinematics::UncertaintyMethod::kAnalytic;
   first.jackknife_groups = false;
   first.monte_carlo_trials = 0;
-  Result<testpieces::MeasuredObservations> obs = Status(StatusCode::kInternal, "not associated");
+  Result<Associated> obs = Status(StatusCode::kInternal, "not associated");
   Result<kinematics::IdentificationResult> id = Status(StatusCode::kInternal, "not identified");
+  std::shared_ptr<const SlotDesign> slot_design;
   const bool realign = options.identify.fit_alignment;
   for (int pass = 0; pass < (realign ? 2 : 1); ++pass) {
-    obs = testpieces::AssociatePoints(piece, measured, datum_from_cmm);
+    obs = Associate(piece, measured, datum_from_cmm, options, pass == 0);
     if (!obs.ok()) return obs.status();
+    if (pass == 0 && options.on_step) options.on_step("identify");
     const bool last = pass == (realign ? 1 : 0);
-    id = kinematics::Identify(machine, base, *active, obs->observations, last ? options.identify : first);
+    kinematics::IdentifyOptions pass_options = last ? options.identify : first;
+    if (last) {
+      auto design = NominalSlotDesign(piece, machine, base, *active, parameters, obs->observations, &pass_options);
+      if (!design.ok()) return design.status().WithLocation(measured.source);
+      slot_design = std::move(*design);
+    }
+    id = kinematics::Identify(machine, base, *active, obs->observations.observations, pass_options);
     if (!id.ok()) return id.status().WithLocation(measured.source);
     total_alignment = id->alignment * total_alignment;
     if (!last) {
@@ -47,30 +142,9 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
     }
   }
   id->alignment = total_alignment;
-  // Report under the names asked for (seed 002 keeps "beta_ZX" where the catalog term is
-  // "E_B(0X)Z"; the ISO symbol stays beside it).
-  std::map<std::string, std::string> rename;
-  for (std::size_t k = 0; k < parameters.size(); ++k) {
-    const std::string& coefficient = base.coefficient_info(active->coefficients[k]).name;
-    if (coefficient != parameters[k]) rename[coefficient] = parameters[k];
-  }
-  auto renamed = [&](std::string* name) {
-    if (auto it = rename.find(*name); it != rename.end()) *name = it->second;
-  };
-  auto renamed_text = [&](std::string* text) {
-    for (const auto& [from, to] : rename)
-      for (std::size_t at = text->find(from); at != std::string::npos; at = text->find(from, at + to.size()))
-        text->replace(at, from.size(), to);
-  };
-  for (auto& p : id->parameters) renamed(&p.name);
-  auto& ident = id->identifiability;
-  for (auto& n : ident.not_identifiable) renamed(&n);
-  for (auto* combos : {&ident.estimable, &ident.null_directions})
-    for (auto& c : *combos) {
-      for (auto& n : c.names) renamed(&n);
-      renamed_text(&c.text);
-    }
-  return IdentifyStageResult{std::move(*inspection), std::move(*obs), std::move(parameters), std::move(*id)};
+  NameAsAsked(base, *active, parameters, &*id);
+  return IdentifyStageResult{std::move(*inspection), std::move(obs->observations), std::move(parameters),
+                             std::move(*id),         obs->scan_cells,               std::move(slot_design)};
 }
 
 }  // namespace tpcal::pipeline

@@ -1,10 +1,16 @@
 // The identification stage: a measured test piece (CMM points, any placement) to machine errors
-// with uncertainty. Steps: GD&T evaluation of the piece's inspection plan (datum frame from the
-// measured features), every labelled point moved into the nominal part frame and associated with
-// the machine state that cut it (testpieces::AssociatePoints), then the point-level
-// least-squares identification of kinematics/identification.h.
+// with uncertainty, the one orchestration of `tpcal identify` and `tpcal run`. Steps: GD&T
+// evaluation of the piece's inspection plan (datum frame from the measured features), every
+// labelled point moved into the nominal part frame and associated with the machine state that cut
+// it (testpieces::AssociatePoints), dense scans pooled into scan-line cells (scan_cells.h), a first
+// point-level least-squares identification (kinematics/identification.h) whose re-alignment
+// corrects the datum frame, the association again in the corrected frame, and the final
+// identification with every uncertainty, its parameters named as they were asked for.
 #pragma once
 
+#include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +19,8 @@
 #include "gdt/inspection.h"
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/scan_cells.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
@@ -21,6 +29,10 @@ namespace tpcal::pipeline {
 struct IdentifyStageOptions {
   std::vector<std::string> parameters;  // empty: testpieces::DefaultParameterSet
   kinematics::IdentifyOptions identify;
+  ScanCellOptions scan_cells;           // dense scans are pooled (above_points 0: never)
+  // Called as each step starts: "gdt", "associate", "scan cells" (pooled files only), "identify"
+  // (the re-association in the corrected datum frame is part of it). May be empty.
+  std::function<void(const char* step)> on_step;
 };
 
 struct IdentifyStageResult {
@@ -28,8 +40,16 @@ struct IdentifyStageResult {
   testpieces::MeasuredObservations observations;
   std::vector<std::string> parameters;
   kinematics::IdentificationResult identification;
+  std::optional<ScanCellSummary> scan_cells;  // set when the observations are scan-line cells
+  // The slot linearisation at the nominal machine of `observations` for the base set and every
+  // diagnosis candidate: the final identification's first design, and the diagnosis's
+  // (DiagnosisOptions::nominal_slot_design with base_parameters = parameters).
+  std::shared_ptr<const SlotDesign> nominal_slot_design;
 };
 
+// Errors (file:line where a point is at fault): those of gdt::EvaluatePlan and
+// testpieces::AssociatePoints (fail policy), unknown parameters, invalid scan-cell options, and
+// those of kinematics::Identify.
 Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine, const PointSet& measured,
                                              const IdentifyStageOptions& options = {});

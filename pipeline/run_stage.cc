@@ -3,17 +3,14 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <memory>
 
 #include "kinematics/error_state.h"
 #include "pipeline/diagnosis/diagnosis.h"
-#include "pipeline/diagnosis/diagnosis_candidates.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
 #include "pipeline/io/xxh64.h"
 #include "testpieces/default_parameters.h"
-#include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -79,66 +76,34 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     raw_scan = std::move(*labelled);
   }
 
-  clock.Start("gdt");
-  auto inspection = gdt::EvaluatePlan(setup->piece.inspection, file->points);
-  if (!inspection.ok()) return inspection.status();
-
-  clock.Start("associate");
-  auto obs = testpieces::AssociatePoints(setup->piece, file->points, inspection->datum_from_cmm);
-  if (!obs.ok()) return obs.status();
-
-  std::optional<ScanCellSummary> scan_cells;
-  if (config.scan_cells.above_points > 0 && obs->observations.size() > config.scan_cells.above_points) {
-    clock.Start("scan cells");
-    auto cells = ReduceToScanCells(*obs, config.scan_cells);
-    if (!cells.ok()) return cells.status().WithLocation(config.source);
-    if (*cells) {
-      scan_cells = Summarise(**cells);
-      *obs = std::move((*cells)->observations);
-    }
-  }
-
-  clock.Start("identify");
   std::vector<std::string> parameters =
       config.parameters.empty() ? testpieces::DefaultParameterSet(setup->piece, setup->machine) : config.parameters;
-  kinematics::ErrorState base(setup->machine);
-  auto active = kinematics::ActivateParameters(setup->machine, &base, parameters);
-  if (!active.ok()) return active.status().WithLocation(config.source.empty() ? "--parameters" : config.source);
-  kinematics::IdentifyOptions id_options;
-  id_options.primary = config.primary;
-  id_options.jackknife_groups = config.jackknife_groups;
-  id_options.monte_carlo_trials = config.monte_carlo_trials;
-  id_options.seed = config.seed;
-  DiagnosisOptions d_options;
-  d_options.base_parameters = parameters;
-  if (config.diagnose) {
-    // One slot linearisation at the nominal machine serves the identification's first Jacobian
-    // (by the chain rule to its coefficients) and the diagnosis's base model and candidates: both
-    // would otherwise make a full pass over the points at the same state.
-    auto slots = NominalDiagnosisSlots(setup->piece, setup->machine, d_options);
-    if (!slots.ok()) return slots.status();
-    AddSlots(SlotsOf(base, active->coefficients), &*slots);
-    auto shared = LineariseSlots(setup->machine, base, *slots, obs->observations);
-    if (!shared.ok()) return shared.status().WithLocation(config.points);
-    auto J = CoefficientColumns(*shared, base, active->coefficients, obs->observations);
-    if (!J.ok()) return J.status();
-    auto lin0 = std::make_shared<kinematics::LinearDesign>();
-    lin0->J_dev_params = std::move(*J);
-    lin0->J_dev_alignment = shared->lin.J_dev_alignment;
-    lin0->measured_dev_um = shared->lin.measured_dev_um;
-    lin0->predicted_dev_um = shared->lin.predicted_dev_um;
-    id_options.initial_design = std::move(lin0);
-    d_options.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*shared));
+  {
+    kinematics::ErrorState probe(setup->machine);
+    auto active = kinematics::ActivateParameters(setup->machine, &probe, parameters);
+    if (!active.ok()) return active.status().WithLocation(config.source.empty() ? "--parameters" : config.source);
   }
-  auto id = kinematics::Identify(setup->machine, base, *active, obs->observations, id_options);
-  id_options.initial_design.reset();
-  if (!id.ok()) return id.status().WithLocation(config.points);
+  // The identification stage of `tpcal identify`, with the run's options: the same parameters,
+  // values and u to the last bit.
+  IdentifyStageOptions stage_options;
+  stage_options.parameters = parameters;
+  stage_options.identify.primary = config.primary;
+  stage_options.identify.jackknife_groups = config.jackknife_groups;
+  stage_options.identify.monte_carlo_trials = config.monte_carlo_trials;
+  stage_options.identify.seed = config.seed;
+  stage_options.scan_cells = config.scan_cells;
+  stage_options.on_step = [&clock](const char* step) { clock.Start(step); };
+  auto stage = RunIdentifyStage(setup->piece, setup->machine, file->points, stage_options);
+  if (!stage.ok()) return stage.status();
 
   std::optional<DiagnosisResult> diagnosis;
   Status diagnosis_status;
   if (config.diagnose) {
     clock.Start("diagnose");
-    auto d = DiagnoseObservations(setup->piece, setup->machine, *obs, d_options);
+    DiagnosisOptions d_options;
+    d_options.base_parameters = parameters;
+    d_options.nominal_slot_design = stage->nominal_slot_design;
+    auto d = DiagnoseObservations(setup->piece, setup->machine, stage->observations, d_options);
     if (d.ok())
       diagnosis = std::move(*d);
     else
@@ -148,7 +113,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   std::map<std::string, double> truth;
   if (!config.truth.empty()) {
     std::vector<std::string> names;
-    for (const auto& p : id->parameters) names.push_back(p.name);
+    for (const auto& p : stage->identification.parameters) names.push_back(p.name);
     auto t = LoadTruthValues(config.truth, names);
     if (!t.ok()) return t.status();
     truth = std::move(*t);
@@ -163,8 +128,8 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
               .num_points = num_points_in_file,
               .raw_scan = std::move(raw_scan),
               .points_digest = digest,
-              .scan_cells = scan_cells,
-              .stage = IdentifyStageResult{std::move(*inspection), std::move(*obs), parameters, std::move(*id)},
+              .scan_cells = stage->scan_cells,
+              .stage = std::move(*stage),
               .diagnosis = std::move(diagnosis),
               .diagnosis_status = diagnosis_status,
               .truth = std::move(truth),

@@ -2,8 +2,9 @@
 // evaluate the piece's GD&T (datum frame from the measured features), associate every point with
 // the cut that made it, identify the machine errors with their uncertainties and identifiability,
 // diagnose the sim-to-real gap (pipeline/diagnosis/diagnosis.h: where, which unmodelled effect, how much
-// the gap shrinks), then build the figures. The same steps as RunIdentifyStage (identify_stage.h), split so each
-// stage is timed and reported as progress. No file is written here (run_output.h writes).
+// the gap shrinks), then build the figures. The identification is RunIdentifyStage
+// (identify_stage.h), the stage of `tpcal identify`; each step is timed and reported as progress.
+// No file is written here (run_output.h writes).
 #pragma once
 
 #include <functional>
