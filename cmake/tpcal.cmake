@@ -12,6 +12,16 @@ function(tpcal_warnings target)
   endif()
 endfunction()
 
+# Unity builds (scripts/test.sh turns them on): the .cc files of each target compiled in batches
+# of TPCAL_UNITY_BATCH, so the Eigen/Ceres/CGAL headers are parsed and their templates instantiated
+# once per batch instead of once per file. File-local names must then be unique within a target.
+option(TPCAL_UNITY_BUILD "Compile each target's sources in unity batches" OFF)
+set(TPCAL_UNITY_BATCH 8 CACHE STRING "Source files per unity batch")
+if(TPCAL_UNITY_BUILD)
+  set(CMAKE_UNITY_BUILD ON)
+  set(CMAKE_UNITY_BUILD_BATCH_SIZE ${TPCAL_UNITY_BATCH})
+endif()
+
 if(TPCAL_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)

@@ -103,7 +103,7 @@ double BruteForceMic(const std::vector<Eigen::Vector2d>& p) {
   return static_cast<double>(best);
 }
 
-constexpr double kRelTol = 1e-9;  // exact results, rounded; brute force in long double
+constexpr double kExtremesRelTol = 1e-9;  // exact results, rounded; brute force in long double
 
 TEST(ReferenceCircles, MatchBruteForce) {
   double worst = 0;
@@ -125,8 +125,8 @@ TEST(ReferenceCircles, MatchBruteForce) {
     const auto mic = MaximumInscribedCircle(p);
     ASSERT_TRUE(mcc.ok() && mic.ok()) << mcc.status().ToString() << mic.status().ToString();
     const double bf_mcc = BruteForceMcc(p), bf_mic = BruteForceMic(p);
-    EXPECT_NEAR(mcc->circle.radius_mm, bf_mcc, kRelTol * bf_mcc) << "seed " << seed;
-    EXPECT_NEAR(mic->circle.radius_mm, bf_mic, kRelTol * bf_mic) << "seed " << seed;
+    EXPECT_NEAR(mcc->circle.radius_mm, bf_mcc, kExtremesRelTol * bf_mcc) << "seed " << seed;
+    EXPECT_NEAR(mic->circle.radius_mm, bf_mic, kExtremesRelTol * bf_mic) << "seed " << seed;
     worst = std::max({worst, std::abs(mcc->circle.radius_mm - bf_mcc) / bf_mcc,
                       std::abs(mic->circle.radius_mm - bf_mic) / bf_mic});
     for (const auto* r : {&*mcc, &*mic}) {

@@ -21,7 +21,7 @@ Eigen::Vector2d RandomFar2(std::mt19937_64& rng, double distance_mm) {
   return distance_mm * Eigen::Vector2d(std::cos(t), std::sin(t));
 }
 
-Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
+Eigen::Vector3d RandomUnitCircle(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
 }
@@ -94,7 +94,7 @@ TEST(FitCircle3, CertifiedReferenceData) {
           o.n_points = n;
           o.arc_rad = arc;
           o.deviation_rms_mm = dev_mm;
-          const Circle3 truth = *MakeCircle3(1000.0 * RandomUnit(rng), RandomUnit(rng), radius_mm);
+          const Circle3 truth = *MakeCircle3(1000.0 * RandomUnitCircle(rng), RandomUnitCircle(rng), radius_mm);
           const auto ref = MakeReferenceCircle3(truth, o, rng);
           ASSERT_TRUE(ref.ok()) << ref.status().ToString();
           std::ostringstream label;

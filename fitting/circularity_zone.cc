@@ -32,7 +32,7 @@ namespace {
 using internal::ChebyshevKind;
 using internal::LinearModel;
 
-constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+constexpr double kCircularityU = std::numeric_limits<double>::epsilon() / 2;
 
 class CircleProblem final : public internal::ChebyshevProblem {
  public:
@@ -131,7 +131,7 @@ GlobalExclusion ExcludeElsewhere(const CircleProblem& problem, std::span<const E
   o /= static_cast<double>(pts.size());
   double rho = 0;
   for (const auto& p : pts) rho = std::max(rho, (p - o).norm());
-  rho *= 1 + 8 * kU;
+  rho *= 1 + 8 * kCircularityU;
   const double target = width - slack;
   if (!(w_lower > target)) {
     out.message = "the points' width does not exceed the zone (short arc?): the far region cannot "
@@ -141,7 +141,7 @@ GlobalExclusion ExcludeElsewhere(const CircleProblem& problem, std::span<const E
   // F(c) >= w_lower - rho^2 / (2 (t - rho)) > target for t > t_max.
   const double t_max = (rho + rho * rho / (2 * (w_lower - target))) * (1 + 1e-12);
   // Rounding of a double evaluation of F at a centre within t_max of o.
-  const double margin = 32 * kU * (2 * t_max + o.cwiseAbs().maxCoeff());
+  const double margin = 32 * kCircularityU * (2 * t_max + o.cwiseAbs().maxCoeff());
   struct Box {
     Eigen::Vector2d b;
     double h;
@@ -159,7 +159,7 @@ GlobalExclusion ExcludeElsewhere(const CircleProblem& problem, std::span<const E
     if (d.maxCoeff() + box.h <= local_radius) continue;  // inside the certified neighbourhood
     const Eigen::Vector2d q = ((box.b - o).cwiseAbs().array() - box.h).cwiseMax(0.0);
     if (q.norm() > t_max) continue;  // entirely beyond the far bound
-    const double lb = problem.ZoneAt(box.b) - 2 * std::sqrt(2.0) * box.h * (1 + 4 * kU) - margin;
+    const double lb = problem.ZoneAt(box.b) - 2 * std::sqrt(2.0) * box.h * (1 + 4 * kCircularityU) - margin;
     if (lb >= target) continue;
     if (box.h < h_min) {
       std::ostringstream msg;

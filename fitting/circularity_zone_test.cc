@@ -67,7 +67,7 @@ std::vector<Eigen::Vector2d> NoisyCircle(std::mt19937_64& rng, int n, const Eige
 }
 
 // Relative comparison for zone widths: exact data, double rounding of the reported value.
-constexpr double kRelTol = 1e-9;
+constexpr double kCircularityRelTol = 1e-9;
 
 TEST(MinimumZoneCircularity, MatchesBruteForceOnRandomCircles) {
   double worst = 0;
@@ -78,7 +78,7 @@ TEST(MinimumZoneCircularity, MatchesBruteForceOnRandomCircles) {
     const auto mz = MinimumZoneCircularity(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceCircularity(p);
-    EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf) << "seed " << seed;
+    EXPECT_NEAR(mz->width_mm, bf, kCircularityRelTol * bf) << "seed " << seed;
     worst = std::max(worst, std::abs(mz->width_mm - bf) / bf);
     EXPECT_TRUE(mz->certificate.verified_optimal) << mz->certificate.message;
     EXPECT_EQ(mz->certificate.scope, OptimalityScope::kGlobal) << mz->certificate.message;
@@ -99,10 +99,10 @@ TEST(MinimumZoneCircularity, GlobalCertificateIsNeverWrongOnScatteredPoints) {
     const auto mz = MinimumZoneCircularity(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceCircularity(p);
-    EXPECT_GE(mz->width_mm, bf * (1 - kRelTol)) << "seed " << seed;  // never below the optimum
+    EXPECT_GE(mz->width_mm, bf * (1 - kCircularityRelTol)) << "seed " << seed;  // never below the optimum
     if (mz->certificate.scope == OptimalityScope::kGlobal) {
       ++global;
-      EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf) << "seed " << seed << " " << mz->certificate.message;
+      EXPECT_NEAR(mz->width_mm, bf, kCircularityRelTol * bf) << "seed " << seed << " " << mz->certificate.message;
     }
   }
   RecordProperty("global_certificates", global);
@@ -187,9 +187,9 @@ TEST(MinimumZoneCircularity, ShortArcIsHonest) {
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     EXPECT_NE(mz->certificate.scope, OptimalityScope::kNotVerified) << mz->certificate.message;
     const double bf = BruteForceCircularity(p);
-    EXPECT_GE(mz->width_mm, bf * (1 - kRelTol));
+    EXPECT_GE(mz->width_mm, bf * (1 - kCircularityRelTol));
     if (mz->certificate.scope == OptimalityScope::kGlobal) {
-      EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf);
+      EXPECT_NEAR(mz->width_mm, bf, kCircularityRelTol * bf);
     }
   }
 }

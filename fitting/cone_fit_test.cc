@@ -14,7 +14,7 @@ using testing::kDirTol_rad;
 using testing::kPosTol_mm;
 using testing::kSizeTol_mm;
 
-Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
+Eigen::Vector3d RandomUnitCone(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
 }
@@ -22,7 +22,7 @@ Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
 // Errors of a fitted cone: axis offset at the fitted point, axis angle (directions must
 // agree: both point to the wider end) plus half-angle error, and the radius error at the
 // fitted point's station.
-void Score(const Cone& fit, const Cone& truth, double* pos, double* dir, double* size) {
+void ConeScore(const Cone& fit, const Cone& truth, double* pos, double* dir, double* size) {
   *pos = Distance(Line3{truth.point_mm, truth.axis}, fit.point_mm);
   *dir = std::max(testing::DirectionAngle(fit.axis, truth.axis), std::abs(fit.half_angle_rad - truth.half_angle_rad));
   const double w = truth.axis.dot(fit.point_mm - truth.point_mm);
@@ -48,7 +48,7 @@ TEST(FitCone, CertifiedReferenceData) {
             o.arc_rad = arc;
             o.length_mm = length;
             o.deviation_rms_mm = dev_mm;
-            const Cone truth = *MakeCone(1000.0 * RandomUnit(rng), RandomUnit(rng), half, radius_mm);
+            const Cone truth = *MakeCone(1000.0 * RandomUnitCone(rng), RandomUnitCone(rng), half, radius_mm);
             const auto ref = MakeReferenceCone(truth, o, rng);
             ASSERT_TRUE(ref.ok()) << ref.status().ToString();
             std::ostringstream label;
@@ -61,7 +61,7 @@ TEST(FitCone, CertifiedReferenceData) {
             }
             EXPECT_LT(res_err, kSizeTol_mm) << label.str();
             double pos, dir, size;
-            Score(fit->feature, truth, &pos, &dir, &size);
+            ConeScore(fit->feature, truth, &pos, &dir, &size);
             worst.Add(label.str(), pos, dir, size);
           }
         }
@@ -73,13 +73,13 @@ TEST(FitCone, CertifiedReferenceData) {
     o.n_points = 100000;
     o.length_mm = 30.0;
     o.deviation_rms_mm = 0.002;
-    const Cone truth = *MakeCone(1000.0 * RandomUnit(rng), RandomUnit(rng), DegToRad(30.0), 25.0);
+    const Cone truth = *MakeCone(1000.0 * RandomUnitCone(rng), RandomUnitCone(rng), DegToRad(30.0), 25.0);
     const auto ref = MakeReferenceCone(truth, o, rng);
     ASSERT_TRUE(ref.ok());
     const auto fit = FitCone(ref->points_mm);
     ASSERT_TRUE(fit.ok()) << fit.status().ToString();
     double pos, dir, size;
-    Score(fit->feature, truth, &pos, &dir, &size);
+    ConeScore(fit->feature, truth, &pos, &dir, &size);
     worst.Add("half 30 R 25 n 1e5", pos, dir, size);
   }
   worst.PrintAndCheck();

@@ -16,7 +16,7 @@ using testing::kPosTol_mm;
 using testing::kSizeTol_mm;
 using testing::LineAngle;
 
-Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
+Eigen::Vector3d RandomUnitCylinder(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
 }
@@ -40,7 +40,7 @@ TEST(FitCylinder, CertifiedReferenceData) {
             o.arc_start_rad = std::uniform_real_distribution<double>(0, 2 * kPi)(rng);
             o.length_mm = length;
             o.deviation_rms_mm = dev_mm;
-            const Cylinder truth = *MakeCylinder(1000.0 * RandomUnit(rng), RandomUnit(rng), radius_mm);
+            const Cylinder truth = *MakeCylinder(1000.0 * RandomUnitCylinder(rng), RandomUnitCylinder(rng), radius_mm);
             const auto ref = MakeReferenceCylinder(truth, o, rng);
             ASSERT_TRUE(ref.ok()) << ref.status().ToString();
             std::ostringstream label;
@@ -65,7 +65,7 @@ TEST(FitCylinder, CertifiedReferenceData) {
     o.arc_rad = DegToRad(arc_deg);
     o.length_mm = 80.0;
     o.deviation_rms_mm = 0.002;
-    const Cylinder truth = *MakeCylinder(1000.0 * RandomUnit(rng), RandomUnit(rng), 40.0);
+    const Cylinder truth = *MakeCylinder(1000.0 * RandomUnitCylinder(rng), RandomUnitCylinder(rng), 40.0);
     const auto ref = MakeReferenceCylinder(truth, o, rng);
     ASSERT_TRUE(ref.ok());
     const auto fit = FitCylinder(ref->points_mm);

@@ -36,11 +36,11 @@
 namespace tpcal::fitting {
 namespace {
 
-using K = CGAL::Epick;
+using FlatnessK = CGAL::Epick;
 using HK = CGAL::Homogeneous<CGAL::Gmpz>;
 using WidthTraits = CGAL::Width_default_traits_3<HK>;
 using Z = CGAL::Gmpz;
-using I = CGAL::Interval_nt_advanced;  // needs CGAL::Protect_FPU_rounding in scope
+using FlatnessI = CGAL::Interval_nt_advanced;  // needs CGAL::Protect_FPU_rounding in scope
 
 // Exact integer coordinates: x = X / 2^shift for every coordinate of every point.
 class IntegerCoordinates {
@@ -90,7 +90,7 @@ class IntegerCoordinates {
 struct Slab {
   Z A, B, C, D_lo, D_hi;  // planes A X + B Y + C Z + D W = 0 (D_lo gives the lower value of a.x)
   Z M;                    // max(|A|, |B|, |C|); the intervals below are divided by it
-  I ai, bi, ci, lo_i, hi_i;
+  FlatnessI ai, bi, ci, lo_i, hi_i;
 };
 
 enum class SlabSide { kInside, kOnLower, kOnUpper, kBelow, kAbove };
@@ -98,7 +98,7 @@ enum class SlabSide { kInside, kOnLower, kOnUpper, kBelow, kAbove };
 SlabSide Classify(const Slab& s, const IntegerCoordinates& ic, const Eigen::Vector3d& p, double* excess) {
   {
     CGAL::Protect_FPU_rounding<true> guard;
-    const I v = s.ai * p.x() + s.bi * p.y() + s.ci * p.z();
+    const FlatnessI v = s.ai * p.x() + s.bi * p.y() + s.ci * p.z();
     if (v.inf() > s.lo_i.sup() && v.sup() < s.hi_i.inf()) return SlabSide::kInside;
     if (v.sup() < s.lo_i.inf()) {
       *excess = CGAL::to_double(s.lo_i) - CGAL::to_double(v);
@@ -156,7 +156,7 @@ WidthOnSubset RunWidth3(std::span<const Eigen::Vector3d> pts, const std::vector<
   Z M = CGAL::abs(s.A);
   if (CGAL::abs(s.B) > M) M = CGAL::abs(s.B);
   if (CGAL::abs(s.C) > M) M = CGAL::abs(s.C);
-  auto scaled = [&M](const Z& z) { return I(CGAL::to_interval(CGAL::Gmpq(z, M))); };
+  auto scaled = [&M](const Z& z) { return FlatnessI(CGAL::to_interval(CGAL::Gmpq(z, M))); };
   s.M = M;
   s.ai = scaled(s.A);
   s.bi = scaled(s.B);
@@ -208,7 +208,7 @@ Result<FlatnessZone> internal::MinimumZoneFlatnessWithSubsetLimit(std::span<cons
   if (const long bad = internal::FirstNonFinite(points_mm); bad >= 0) {
     return Status(StatusCode::kInvalidArgument, "point " + std::to_string(bad) + " has a non-finite coordinate");
   }
-  auto kp = [&](std::size_t i) { return K::Point_3(points_mm[i].x(), points_mm[i].y(), points_mm[i].z()); };
+  auto kp = [&](std::size_t i) { return FlatnessK::Point_3(points_mm[i].x(), points_mm[i].y(), points_mm[i].z()); };
   // Four affinely independent points, decided exactly.
   std::size_t i1 = 1;
   while (i1 < n && points_mm[i1] == points_mm[0]) ++i1;
@@ -280,7 +280,7 @@ Result<FlatnessZone> internal::MinimumZoneFlatnessWithSubsetLimit(std::span<cons
   bool used_hull = false;
   // Fallback: the exact convex hull (its width is the width of the set).
   auto use_hull = [&] {
-    std::vector<K::Point_3> P;
+    std::vector<FlatnessK::Point_3> P;
     P.reserve(n);
     for (const auto& p : points_mm) P.emplace_back(p.x(), p.y(), p.z());
     std::vector<std::size_t> idx(n);

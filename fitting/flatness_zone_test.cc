@@ -53,7 +53,7 @@ std::vector<Eigen::Vector3d> NoisyPlane(std::mt19937_64& rng, int n, double nois
 }
 
 // Exact data; the reported width is the square root of an exact rational, rounded.
-constexpr double kRelTol = 1e-9;
+constexpr double kFlatnessRelTol = 1e-9;
 
 double FormAbout(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& n) {
   double hi = -1e300, lo = 1e300;
@@ -77,7 +77,7 @@ TEST(MinimumZoneFlatness, MatchesBruteForceOnRandomSets) {
     const auto mz = MinimumZoneFlatness(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceFlatness(p);
-    EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf) << "seed " << seed;
+    EXPECT_NEAR(mz->width_mm, bf, kFlatnessRelTol * bf) << "seed " << seed;
     worst = std::max(worst, std::abs(mz->width_mm - bf) / bf);
     EXPECT_TRUE(mz->certificate.verified_optimal);
     EXPECT_TRUE(mz->certificate.exact);

@@ -14,7 +14,7 @@ namespace {
 using testing::kPosTol_mm;
 using testing::LineAngle;
 
-Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
+Eigen::Vector3d RandomUnitLine(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
 }
@@ -35,7 +35,7 @@ TEST(FitLine2, CertifiedReferenceData) {
         o.n_points = n;
         o.length_mm = length_mm;
         o.deviation_rms_mm = dev_mm;
-        const Eigen::Vector3d dir = RandomUnit(rng), pos = 1000.0 * RandomUnit(rng);
+        const Eigen::Vector3d dir = RandomUnitLine(rng), pos = 1000.0 * RandomUnitLine(rng);
         const Line2 truth{pos.head<2>(), dir.head<2>().normalized()};
         const auto ref = MakeReferenceLine2(truth, o, rng);
         ASSERT_TRUE(ref.ok()) << ref.status().ToString();
@@ -69,7 +69,7 @@ TEST(FitLine3, CertifiedReferenceData) {
         o.n_points = n;
         o.length_mm = length_mm;
         o.deviation_rms_mm = dev_mm;
-        const Line3 truth = *MakeLine3(1000.0 * RandomUnit(rng), RandomUnit(rng));
+        const Line3 truth = *MakeLine3(1000.0 * RandomUnitLine(rng), RandomUnitLine(rng));
         const auto ref = MakeReferenceLine3(truth, o, rng);
         ASSERT_TRUE(ref.ok()) << ref.status().ToString();
         std::ostringstream label;

@@ -24,7 +24,7 @@ Plane RandomPlane(std::mt19937_64& rng, double distance_mm) {
 
 // Errors of a fitted plane against the truth: offset of the fitted point from the true
 // plane, angle between normals.
-void Score(const Plane& fit, const Plane& truth, double* pos_mm, double* dir_rad) {
+void PlaneScore(const Plane& fit, const Plane& truth, double* pos_mm, double* dir_rad) {
   *pos_mm = std::abs(truth.SignedDistance(fit.point_mm));
   *dir_rad = LineAngle(fit.normal, truth.normal);
 }
@@ -54,7 +54,7 @@ TEST(FitPlane, CertifiedReferenceData) {
           label << "size " << size_mm << " aspect " << aspect << " n " << n << " dev " << dev_mm;
           ASSERT_TRUE(fit.ok()) << label.str() << ": " << fit.status().ToString();
           double pos, dir;
-          Score(fit->feature, ref->truth, &pos, &dir);
+          PlaneScore(fit->feature, ref->truth, &pos, &dir);
           double res_err = 0.0;  // residuals vs the certified ones (sign follows the normal)
           const double sign = fit->feature.normal.dot(ref->truth.normal) > 0 ? 1.0 : -1.0;
           for (std::size_t i = 0; i < n; ++i) {
@@ -76,7 +76,7 @@ TEST(FitPlane, CertifiedReferenceData) {
     const auto fit = FitPlane(ref->points_mm);
     ASSERT_TRUE(fit.ok()) << fit.status().ToString();
     double pos, dir;
-    Score(fit->feature, ref->truth, &pos, &dir);
+    PlaneScore(fit->feature, ref->truth, &pos, &dir);
     worst.Add("n 1e5 size " + std::to_string(size_mm), pos, dir, 0.0);
   }
   worst.PrintAndCheck();  // the "size" column holds the residual error for planes
@@ -187,7 +187,7 @@ TEST(FitPlane, NearlyCollinearButResolvedIsCorrect) {
   const auto fit = FitPlane(ref->points_mm);
   ASSERT_TRUE(fit.ok()) << fit.status().ToString();
   double pos, dir;
-  Score(fit->feature, ref->truth, &pos, &dir);
+  PlaneScore(fit->feature, ref->truth, &pos, &dir);
   EXPECT_LT(pos, kPosTol_mm);
   // Tilt about the long axis is resolved over 1 um: rounding of 1000 mm coordinates (1e-13)
   // over that width gives ~1e-7 rad at worst.

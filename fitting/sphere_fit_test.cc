@@ -14,7 +14,7 @@ namespace {
 using testing::kPosTol_mm;
 using testing::kSizeTol_mm;
 
-Eigen::Vector3d RandomUnit(std::mt19937_64& rng) {
+Eigen::Vector3d RandomUnitSphere(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
 }
@@ -34,9 +34,9 @@ TEST(FitSphere, CertifiedReferenceData) {
           ReferenceOptions o;
           o.n_points = n;
           o.arc_rad = cap;
-          o.cap_axis = RandomUnit(rng);
+          o.cap_axis = RandomUnitSphere(rng);
           o.deviation_rms_mm = dev_mm;
-          const auto ref = MakeReferenceSphere({1000.0 * RandomUnit(rng), radius_mm}, o, rng);
+          const auto ref = MakeReferenceSphere({1000.0 * RandomUnitSphere(rng), radius_mm}, o, rng);
           ASSERT_TRUE(ref.ok()) << ref.status().ToString();
           std::ostringstream label;
           label << "R " << radius_mm << " cap " << cap_deg << " n " << n << " dev " << dev_mm;
@@ -58,7 +58,7 @@ TEST(FitSphere, CertifiedReferenceData) {
     o.n_points = 100000;
     o.arc_rad = DegToRad(cap_deg);
     o.deviation_rms_mm = 0.002;
-    const auto ref = MakeReferenceSphere({1000.0 * RandomUnit(rng), 12.5}, o, rng);
+    const auto ref = MakeReferenceSphere({1000.0 * RandomUnitSphere(rng), 12.5}, o, rng);
     ASSERT_TRUE(ref.ok());
     const auto fit = FitSphere(ref->points_mm);
     ASSERT_TRUE(fit.ok()) << fit.status().ToString();

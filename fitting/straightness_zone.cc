@@ -29,7 +29,7 @@
 
 namespace tpcal::fitting {
 namespace {
-constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+constexpr double kStraightnessU = std::numeric_limits<double>::epsilon() / 2;
 }  // namespace
 
 Result<StraightnessZone2> MinimumZoneStraightness2(std::span<const Eigen::Vector2d> points_mm,
@@ -141,8 +141,8 @@ Result<StraightnessZone3> MinimumZoneStraightness3(std::span<const Eigen::Vector
     return out;
   }
   // Rounding of the local coordinates and of the model (a few ulps of the scale).
-  const double lp_star = std::max(0.0, lp.objective_lower - 32 * kU * problem.Scale());
-  const double t_up = t + 8 * kU * problem.Scale();
+  const double lp_star = std::max(0.0, lp.objective_lower - 32 * kStraightnessU * problem.Scale());
+  const double t_up = t + 8 * kStraightnessU * problem.Scale();
   auto bound_a = [&](double th) { return 2 * lp_star * std::cos(th); };
   auto bound_b = [&](double th) { return s * std::sin(th) - t_up; };
   double lo = 0, hi = std::numbers::pi / 2;
@@ -151,7 +151,7 @@ Result<StraightnessZone3> MinimumZoneStraightness3(std::span<const Eigen::Vector
     (bound_b(mid) < bound_a(mid) ? lo : hi) = mid;
   }
   const double lower = std::max(0.0, std::min(bound_a(hi), bound_b(lo)));  // crossing in [lo, hi]
-  const double reported_up = out.diameter_mm * (1 + 4 * kU) + 16 * kU * problem.Scale();
+  const double reported_up = out.diameter_mm * (1 + 4 * kStraightnessU) + 16 * kStraightnessU * problem.Scale();
   cert.optimality_gap_mm = std::max(0.0, reported_up - lower);
   cert.scope = OptimalityScope::kGlobal;
   cert.verified_optimal = cert.optimality_gap_mm <= options.gap_tolerance_mm;

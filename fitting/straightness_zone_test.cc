@@ -34,7 +34,7 @@ double BruteForceStrip(const std::vector<Eigen::Vector2d>& p) {
   return static_cast<double>(best);
 }
 
-constexpr double kRelTol = 1e-9;  // exact data; the width is a rounded square root
+constexpr double kStraightnessRelTol = 1e-9;  // exact data; the width is a rounded square root
 
 // The orthogonal least-squares line is the principal axis through the centroid (closed form).
 template <int D>
@@ -62,7 +62,7 @@ TEST(MinimumZoneStraightness2, MatchesBruteForce) {
     const auto mz = MinimumZoneStraightness2(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceStrip(p);
-    EXPECT_NEAR(mz->width_mm, bf, kRelTol * bf + 1e-15) << "seed " << seed;
+    EXPECT_NEAR(mz->width_mm, bf, kStraightnessRelTol * bf + 1e-15) << "seed " << seed;
     worst = std::max(worst, std::abs(mz->width_mm - bf) / bf);
     EXPECT_TRUE(mz->certificate.verified_optimal);
     ASSERT_GE(mz->certificate.contacts.size(), 3u);

@@ -42,7 +42,7 @@ Eigen::Vector3d Tip(const IrProgram& prog, const AxisState& s) {
   return kinematics::NominalToolPointInPart(prog.machine, s, Eigen::Vector3d::Zero());
 }
 
-AxisState Lerp(const AxisState& a, const AxisState& b, double f) {
+AxisState LerpAxes(const AxisState& a, const AxisState& b, double f) {
   AxisState s = a;
   s.x_mm += (b.x_mm - a.x_mm) * f;
   s.y_mm += (b.y_mm - a.y_mm) * f;
@@ -66,7 +66,7 @@ void Line(const IrProgram& prog, const AxisState& a, const AxisState& b, bool ra
   s.rapid = rapid;
   const double rot = RadToDeg(std::max({std::abs(b.a_rad - a.a_rad), std::abs(b.b_rad - a.b_rad), std::abs(b.c_rad - a.c_rad)}));
   const int n = std::max(1, static_cast<int>(std::ceil(rot / seg_deg)));
-  for (int k = 0; k <= n; ++k) s.pts.push_back(Tip(prog, Lerp(a, b, static_cast<double>(k) / n)));
+  for (int k = 0; k <= n; ++k) s.pts.push_back(Tip(prog, LerpAxes(a, b, static_cast<double>(k) / n)));
   if ((s.pts.front() - s.pts.back()).norm() < 1e-9 && n == 1) return;
   out->push_back(std::move(s));
 }

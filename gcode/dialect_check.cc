@@ -16,7 +16,7 @@ using internal::LexedBlock;
 using internal::Lines;
 using internal::Trim;
 
-Status Bad(int line, const std::string& what) {
+Status BadCheck(int line, const std::string& what) {
   return Status(StatusCode::kParseError, what, "<program>", static_cast<std::size_t>(line));
 }
 
@@ -86,7 +86,7 @@ Status CheckSinumerikKeyword(int line, const std::string& kw, const GcodeOptions
   if (std::regex_match(kw, m, kSpindleM) && std::atoi(m[1].str().c_str()) == o.c_spindle.spindle_number) {
     return Status::Ok();
   }
-  return Bad(line, "statement '" + kw + "' is not in the Sinumerik subset");
+  return BadCheck(line, "statement '" + kw + "' is not in the Sinumerik subset");
 }
 
 Result<DialectCheckReport> CheckGStyle(std::string_view text, const GcodeOptions& o) {
@@ -97,26 +97,26 @@ Result<DialectCheckReport> CheckGStyle(std::string_view text, const GcodeOptions
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (!Trim(lines[i]).empty()) code_lines.push_back(static_cast<int>(i));
   }
-  if (code_lines.empty()) return Bad(1, "empty program");
+  if (code_lines.empty()) return BadCheck(1, "empty program");
   auto line_text = [&](int k) { return Trim(lines[code_lines[k]]); };
   std::size_t first = 0;
   if (o.dialect == Dialect::kFanuc || o.dialect == Dialect::kLinuxCnc) {
-    if (line_text(0) != "%") return Bad(code_lines[0] + 1, "the program must start with %");
+    if (line_text(0) != "%") return BadCheck(code_lines[0] + 1, "the program must start with %");
     if (line_text(static_cast<int>(code_lines.size()) - 1) != "%") {
-      return Bad(code_lines.back() + 1, "the program must end with %");
+      return BadCheck(code_lines.back() + 1, "the program must end with %");
     }
     first = 1;
   }
   if (o.dialect == Dialect::kFanuc) {
     static const std::regex kO(R"(O\d{4}( \([A-Z0-9_ ]*\))?)");
     if (code_lines.size() < 2 || !std::regex_match(line_text(1), kO)) {
-      return Bad(code_lines[1] + 1, "expected the program number O0001..O9999");
+      return BadCheck(code_lines[1] + 1, "expected the program number O0001..O9999");
     }
     first = 2;
   }
   if (o.dialect == Dialect::kSinumerik) {
-    if (line_text(0) != "%_N_" + o.program_name + "_MPF") return Bad(code_lines[0] + 1, "expected %_N_<NAME>_MPF");
-    if (code_lines.size() < 2 || line_text(1) != ";$PATH=/_N_MPF_DIR") return Bad(code_lines[1] + 1, "expected ;$PATH");
+    if (line_text(0) != "%_N_" + o.program_name + "_MPF") return BadCheck(code_lines[0] + 1, "expected %_N_<NAME>_MPF");
+    if (code_lines.size() < 2 || line_text(1) != ";$PATH=/_N_MPF_DIR") return BadCheck(code_lines[1] + 1, "expected ;$PATH");
     first = 2;
   }
   long last_n = -1;
@@ -126,22 +126,22 @@ Result<DialectCheckReport> CheckGStyle(std::string_view text, const GcodeOptions
     const std::string t = line_text(static_cast<int>(k));
     ++rep.lines;
     const LexedBlock b = LexBlock(t, r.semicolon_comments, r.keywords);
-    if (!b.error.empty()) return Bad(line, b.error);
+    if (!b.error.empty()) return BadCheck(line, b.error);
     if (r.upper_comments) {
       for (char ch : b.comment) {
-        if (std::islower(static_cast<unsigned char>(ch))) return Bad(line, "lower-case letter in a Fanuc comment");
+        if (std::islower(static_cast<unsigned char>(ch))) return BadCheck(line, "lower-case letter in a Fanuc comment");
       }
     }
     if (b.comment_only) continue;
     if (!b.label.empty()) {
       const long n = std::strtol(b.label.c_str() + 1, nullptr, 10);
       if (!IsInteger(b.label.substr(1)) || n <= last_n || n > 99999) {
-        return Bad(line, "block number " + b.label + " must be an integer increasing up to 99999");
+        return BadCheck(line, "block number " + b.label + " must be an integer increasing up to 99999");
       }
       last_n = n;
       ++rep.blocks;
     } else if (o.block_step > 0) {
-      return Bad(line, "block without an N number");
+      return BadCheck(line, "block without an N number");
     }
     for (const std::string& kw : b.keywords) {
       ++rep.words;
@@ -153,35 +153,35 @@ Result<DialectCheckReport> CheckGStyle(std::string_view text, const GcodeOptions
     for (const auto& w : b.words) {
       ++rep.words;
       if (r.letters.find(w.letter) == std::string::npos) {
-        return Bad(line, std::string("address ") + w.letter + " is not used in " + DialectName(o.dialect));
+        return BadCheck(line, std::string("address ") + w.letter + " is not used in " + DialectName(o.dialect));
       }
       if (w.letter == 'G') {
         const double g = std::strtod(w.value.c_str(), nullptr);
-        if (!r.g.count(g)) return Bad(line, "G" + w.value + " is not in the " + std::string(DialectName(o.dialect)) + " subset");
+        if (!r.g.count(g)) return BadCheck(line, "G" + w.value + " is not in the " + std::string(DialectName(o.dialect)) + " subset");
         if (g == 0 || g == 1 || g == 2 || g == 3 || g == 80 || g == 85) ++motion;
         if (g == 4) dwell = true;
-        if (o.dialect == Dialect::kFanuc && g < 10 && w.value.size() != 2) return Bad(line, "Fanuc G codes are written G00..G09");
+        if (o.dialect == Dialect::kFanuc && g < 10 && w.value.size() != 2) return BadCheck(line, "Fanuc G codes are written G00..G09");
         continue;
       }
       if (w.letter == 'M') {
         if (!IsInteger(w.value) || !r.m.count(std::atoi(w.value.c_str()))) {
-          return Bad(line, "M" + w.value + " is not in the " + std::string(DialectName(o.dialect)) + " subset");
+          return BadCheck(line, "M" + w.value + " is not in the " + std::string(DialectName(o.dialect)) + " subset");
         }
       }
-      if (!seen.insert(w.letter).second) return Bad(line, std::string("address ") + w.letter + " twice in one block");
+      if (!seen.insert(w.letter).second) return BadCheck(line, std::string("address ") + w.letter + " twice in one block");
       const bool position = std::string("XYZABCIJRF").find(w.letter) != std::string::npos;
       if (r.decimal_point && position && IsInteger(w.value)) {
-        return Bad(line, std::string(1, w.letter) + w.value + ": Fanuc positions and feeds need a decimal point");
+        return BadCheck(line, std::string(1, w.letter) + w.value + ": Fanuc positions and feeds need a decimal point");
       }
       if (std::string("MSTHDN").find(w.letter) != std::string::npos && !IsInteger(w.value)) {
-        return Bad(line, std::string(1, w.letter) + w.value + " must be an integer");
+        return BadCheck(line, std::string(1, w.letter) + w.value + " must be an integer");
       }
       if (w.letter == 'P' && o.dialect == Dialect::kFanuc && !IsInteger(w.value)) {
-        return Bad(line, "P" + w.value + " must be an integer");
+        return BadCheck(line, "P" + w.value + " must be an integer");
       }
     }
-    if (motion > 1) return Bad(line, "two motion codes in one block");
-    if (dwell && o.dialect == Dialect::kFanuc && !seen.count('X')) return Bad(line, "G04 needs X (seconds)");
+    if (motion > 1) return BadCheck(line, "two motion codes in one block");
+    if (dwell && o.dialect == Dialect::kFanuc && !seen.count('X')) return BadCheck(line, "G04 needs X (seconds)");
   }
   return rep;
 }
@@ -226,14 +226,14 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
       std::smatch m;
       const std::string t = Trim(raw);
       if (!std::isspace(static_cast<unsigned char>(raw[0])) || !std::regex_match(t, m, kQ)) {
-        return Bad(line, "expected a cycle parameter line 'Qnnn=+v ;NAME'");
+        return BadCheck(line, "expected a cycle parameter line 'Qnnn=+v ;NAME'");
       }
       if (std::atoi(m[1].str().c_str()) != q_expected.front()) {
-        return Bad(line, "expected Q" + std::to_string(q_expected.front()));
+        return BadCheck(line, "expected Q" + std::to_string(q_expected.front()));
       }
       q_expected.erase(q_expected.begin());
       const bool more = t.back() == '~';
-      if (more != !q_expected.empty()) return Bad(line, "continuation mark '~' must end every parameter line but the last");
+      if (more != !q_expected.empty()) return BadCheck(line, "continuation mark '~' must end every parameter line but the last");
       ++rep.words;
       continue;
     }
@@ -241,7 +241,7 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     std::string number;
     ls >> number;
     if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos || std::stoi(number) != expect) {
-      return Bad(line, "expected line number " + std::to_string(expect));
+      return BadCheck(line, "expected line number " + std::to_string(expect));
     }
     ++expect;
     ++rep.blocks;
@@ -251,11 +251,11 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     last_line = line;
     last_body = body;
     if (expect == 1) {
-      if (!std::regex_match(body, kBegin)) return Bad(line, "expected BEGIN PGM " + o.program_name + " MM");
+      if (!std::regex_match(body, kBegin)) return BadCheck(line, "expected BEGIN PGM " + o.program_name + " MM");
       continue;
     }
     if (body.rfind(";", 0) == 0) continue;  // comment line
-    if (std::regex_search(body, kG)) return Bad(line, "G-words do not exist in Klartext: '" + body + "'");
+    if (std::regex_search(body, kG)) return BadCheck(line, "G-words do not exist in Klartext: '" + body + "'");
     ++rep.words;
     std::smatch m;
     if (std::regex_match(body, kEnd) || std::regex_match(body, kBlk1) || std::regex_match(body, kBlk2) ||
@@ -271,18 +271,18 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     if (std::regex_match(body, m, kL)) {
       const std::size_t mpos = body.rfind(" M");
       if (mpos != std::string::npos && !m_ok.count(std::atoi(body.c_str() + mpos + 2))) {
-        return Bad(line, "M-function in '" + body + "' is not in the Heidenhain subset");
+        return BadCheck(line, "M-function in '" + body + "' is not in the Heidenhain subset");
       }
       continue;
     }
     if (std::regex_match(body, m, kM)) {
-      if (!m_ok.count(std::atoi(m[1].str().c_str()))) return Bad(line, body + " is not in the Heidenhain subset");
+      if (!m_ok.count(std::atoi(m[1].str().c_str()))) return BadCheck(line, body + " is not in the Heidenhain subset");
       continue;
     }
-    return Bad(line, "block '" + body + "' is not in the Heidenhain subset");
+    return BadCheck(line, "block '" + body + "' is not in the Heidenhain subset");
   }
-  if (!q_expected.empty()) return Bad(static_cast<int>(lines.size()), "unfinished cycle definition");
-  if (!std::regex_match(last_body, kEnd)) return Bad(last_line, "the program must end with END PGM " + o.program_name + " MM");
+  if (!q_expected.empty()) return BadCheck(static_cast<int>(lines.size()), "unfinished cycle definition");
+  if (!std::regex_match(last_body, kEnd)) return BadCheck(last_line, "the program must end with END PGM " + o.program_name + " MM");
   return rep;
 }
 

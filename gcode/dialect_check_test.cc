@@ -10,7 +10,7 @@
 namespace tpcal::gcode {
 namespace {
 
-std::string Posted(Dialect d, const std::string& piece = "turning") {
+std::string PostedCheck(Dialect d, const std::string& piece = "turning") {
   for (const auto& pc : testing::AllPieces()) {
     if (pc.id != piece) continue;
     auto tp = testing::MakePiece(pc);
@@ -55,7 +55,7 @@ void ExpectRejected(Dialect d, const std::string& text, const std::string& needl
 }
 
 TEST(DialectCheck, FanucRejectsForeignWords) {
-  const std::string text = Posted(Dialect::kFanuc);
+  const std::string text = PostedCheck(Dialect::kFanuc);
   ASSERT_TRUE(CheckDialectSyntax(text, testing::GoldenOptions(Dialect::kFanuc, "turning")).ok());
   // G76 is fine boring on Fanuc, but not a code this post writes: a drifting post is caught.
   ExpectRejected(Dialect::kFanuc, Corrupt(text, "G85", "G76"), "G76", "G76 is not in the fanuc subset");
@@ -67,7 +67,7 @@ TEST(DialectCheck, FanucRejectsForeignWords) {
 }
 
 TEST(DialectCheck, LinuxCncSubset) {
-  const std::string text = Posted(Dialect::kLinuxCnc);
+  const std::string text = PostedCheck(Dialect::kLinuxCnc);
   ASSERT_TRUE(CheckDialectSyntax(text, testing::GoldenOptions(Dialect::kLinuxCnc, "turning")).ok());
   // On LinuxCNC G76 is a threading cycle: never for a reaming post.
   ExpectRejected(Dialect::kLinuxCnc, Corrupt(text, "G85", "G76"), "G76", "G76 is not in the linuxcnc subset");
@@ -75,7 +75,7 @@ TEST(DialectCheck, LinuxCncSubset) {
 }
 
 TEST(DialectCheck, SinumerikStatements) {
-  const std::string text = Posted(Dialect::kSinumerik);
+  const std::string text = PostedCheck(Dialect::kSinumerik);
   ASSERT_TRUE(CheckDialectSyntax(text, testing::GoldenOptions(Dialect::kSinumerik, "turning")).ok());
   ExpectRejected(Dialect::kSinumerik, Corrupt(text, "CYCLE85(", "CYCLE86("), "CYCLE86(", "not in the Sinumerik subset");
   ExpectRejected(Dialect::kSinumerik, Corrupt(text, "G0 D1", "G0 G43 H1"), "G43 H1", "G43 is not in the sinumerik subset");
@@ -84,7 +84,7 @@ TEST(DialectCheck, SinumerikStatements) {
 }
 
 TEST(DialectCheck, HeidenhainHasNoGWords) {
-  const std::string text = Posted(Dialect::kHeidenhain);
+  const std::string text = PostedCheck(Dialect::kHeidenhain);
   ASSERT_TRUE(CheckDialectSyntax(text, testing::GoldenOptions(Dialect::kHeidenhain, "turning")).ok());
   ExpectRejected(Dialect::kHeidenhain, Corrupt(text, "L Z+", "L G0 Z+"), "L G0 Z+", "G-words do not exist");
   ExpectRejected(Dialect::kHeidenhain, Corrupt(text, "CC X+0 Y+0", "CC X0 Y+0"), "CC X0 Y+0", "not in the Heidenhain subset");

@@ -53,19 +53,19 @@ std::vector<Case> AllCases() {
   return cases;
 }
 
-struct Posted {
+struct PostedRoundTrip {
   testpieces::TestPiece piece;
   PostedProgram program;
   GcodeOptions options;
   std::string error;
 };
 
-const Posted& PostedOf(const Case& c) {
-  static std::map<std::string, Posted> cache;
+const PostedRoundTrip& PostedOf(const Case& c) {
+  static std::map<std::string, PostedRoundTrip> cache;
   const std::string key = c.Name();
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  Posted& p = cache[key];
+  PostedRoundTrip& p = cache[key];
   auto piece = testing::MakePiece(c.piece);
   if (!piece.ok()) {
     p.error = piece.status().ToString();
@@ -89,7 +89,7 @@ const NcPath* LinuxCncPath(const PieceCase& pc, const std::string& rs274, std::s
   static std::map<std::string, std::pair<NcPath, std::string>> cache;
   auto it = cache.find(pc.id);
   if (it == cache.end()) {
-    const Posted& p = PostedOf({pc, Dialect::kLinuxCnc, FiveAxisMode::kJointInverseTime});
+    const PostedRoundTrip& p = PostedOf({pc, Dialect::kLinuxCnc, FiveAxisMode::kJointInverseTime});
     std::pair<NcPath, std::string> entry;
     if (!p.error.empty()) {
       entry.second = p.error;
@@ -117,7 +117,7 @@ class DialectProgram : public ::testing::TestWithParam<Case> {};
 
 TEST_P(DialectProgram, MatchesGoldenFile) {
   const Case& c = GetParam();
-  const Posted& p = PostedOf(c);
+  const PostedRoundTrip& p = PostedOf(c);
   ASSERT_TRUE(p.error.empty()) << p.error;
   const auto golden = kGoldenDir / (c.Name() + ProgramExtension(c.dialect));
   if (testing::UpdateGolden()) {
@@ -140,7 +140,7 @@ TEST_P(DialectProgram, MatchesGoldenFile) {
 
 TEST_P(DialectProgram, UsesOnlyWordsTheControlAccepts) {
   const Case& c = GetParam();
-  const Posted& p = PostedOf(c);
+  const PostedRoundTrip& p = PostedOf(c);
   ASSERT_TRUE(p.error.empty()) << p.error;
   auto rep = CheckDialectSyntax(p.program.program_text, p.options);
   ASSERT_TRUE(rep.ok()) << c.Name() << ": " << rep.status().ToString();
@@ -154,7 +154,7 @@ TEST_P(DialectProgram, UsesOnlyWordsTheControlAccepts) {
 TEST_P(DialectProgram, ReadsBackToTheLinuxCncCanonicalPath) {
   const Case& c = GetParam();
   TPCAL_REQUIRE_RS274(rs274);
-  const Posted& p = PostedOf(c);
+  const PostedRoundTrip& p = PostedOf(c);
   ASSERT_TRUE(p.error.empty()) << p.error;
   std::string error;
   const NcPath* reference = LinuxCncPath(c.piece, rs274, &error);

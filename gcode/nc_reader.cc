@@ -17,7 +17,7 @@ using internal::Trim;
 
 double ToD(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 
-Status Bad(int line, const std::string& what) {
+Status BadBlock(int line, const std::string& what) {
   return Status(StatusCode::kParseError, what, "<program>", static_cast<std::size_t>(line));
 }
 
@@ -95,7 +95,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
     if (o.dialect == Dialect::kFanuc && t[0] == 'O') continue;  // program number
     if (sinumerik && (t.rfind("%_N_", 0) == 0 || t[0] == ';')) continue;
     const LexedBlock b = LexBlock(t, semicolon, sinumerik);
-    if (!b.error.empty()) return Bad(line, b.error + ": '" + t + "'");
+    if (!b.error.empty()) return BadBlock(line, b.error + ": '" + t + "'");
     if (b.comment_only) continue;
     st.label = b.label;
     for (const std::string& kw : b.keywords) {
@@ -116,7 +116,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
         }
         args.push_back(cur);
         if (args.size() < 8 || args[0].empty() || args[1].empty() || args[2].empty() || args[3].empty()) {
-          return Bad(line, "CYCLE85 needs RTP, RFP, SDIS, DP: '" + kw + "'");
+          return BadBlock(line, "CYCLE85 needs RTP, RFP, SDIS, DP: '" + kw + "'");
         }
         const double rtp = ToD(args[0]), rfp = ToD(args[1]), sdis = ToD(args[2]), dp = ToD(args[3]);
         st.Ream(rfp + sdis, dp, rtp);
@@ -124,7 +124,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
                  kw.rfind("SCC[", 0) == 0 || (kw.size() > 3 && kw[0] == 'M' && kw.find('=') != std::string::npos)) {
         // spindle statements: no motion
       } else {
-        return Bad(line, "unknown statement '" + kw + "'");
+        return BadBlock(line, "unknown statement '" + kw + "'");
       }
     }
     bool dwell = false, cycle_block = false;
@@ -142,7 +142,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
         cycle_block = true;
       } else if (g == 98) ret_initial = true;
       else if (g == 99) ret_initial = false;
-      else if (g == 18 || g == 19) return Bad(line, "only the XY plane (G17) is read");
+      else if (g == 18 || g == 19) return BadBlock(line, "only the XY plane (G17) is read");
     }
     if (dwell) continue;
     std::array<double, 6> target = st.pos;
@@ -185,10 +185,10 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
     } else if (motion == 1) {
       st.Move(PathMoveKind::kFeed, target);
     } else if (motion == 2 || motion == 3) {
-      if (!has_i || !has_j) return Bad(line, "arc without I and J");
+      if (!has_i || !has_j) return BadBlock(line, "arc without I and J");
       st.Arc(target, st.pos[0] + i_off, st.pos[1] + j_off, motion == 2 ? -1 : 1);
     } else {
-      return Bad(line, "axis words without a motion mode");
+      return BadBlock(line, "axis words without a motion mode");
     }
   }
   return std::move(st.path);
@@ -211,9 +211,9 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
     if (!open_cycle.empty() && std::isspace(static_cast<unsigned char>(raw[0]))) {
       // Continuation line "  Q200=+2 ;SET-UP CLEARANCE ~".
       const std::string t = Trim(raw);
-      if (t.size() < 2 || t[0] != 'Q') return Bad(line, "expected a Q parameter line");
+      if (t.size() < 2 || t[0] != 'Q') return BadBlock(line, "expected a Q parameter line");
       const std::size_t eq = t.find('=');
-      if (eq == std::string::npos) return Bad(line, "expected Qn=value");
+      if (eq == std::string::npos) return BadBlock(line, "expected Qn=value");
       std::string value = t.substr(eq + 1);
       value = value.substr(0, value.find_first_of(" ;~"));
       q[std::atoi(t.substr(1, eq - 1).c_str())] = ToD(value);
@@ -224,7 +224,7 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
     std::string number;
     ls >> number;
     if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos) {
-      return Bad(line, "expected a line number");
+      return BadBlock(line, "expected a line number");
     }
     std::string body;
     std::getline(ls, body);
@@ -242,7 +242,7 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
       continue;
     }
     if (head == "CYCL") {
-      if (tok.size() < 3 || tok[1] != "DEF") return Bad(line, "expected CYCL DEF");
+      if (tok.size() < 3 || tok[1] != "DEF") return BadBlock(line, "expected CYCL DEF");
       if (code.back() == '~') open_cycle = tok[2];
       if (tok[2] == "201") {
         defined_cycle = 201;
@@ -273,7 +273,7 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         if (tok[k][0] == 'X') cc_x = ToD(tok[k].substr(1));
         else if (tok[k][0] == 'Y') cc_y = ToD(tok[k].substr(1));
-        else return Bad(line, "CC takes X and Y");
+        else return BadBlock(line, "CC takes X and Y");
       }
       have_cc = true;
       continue;
@@ -299,25 +299,25 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
           call = true;
         } else if (w[0] == 'M') {
         } else {
-          return Bad(line, "unexpected word '" + w + "'");
+          return BadBlock(line, "unexpected word '" + w + "'");
         }
       }
       if (head == "C") {
-        if (!have_cc || dr == 0) return Bad(line, "arc needs CC and DR+ / DR-");
+        if (!have_cc || dr == 0) return BadBlock(line, "arc needs CC and DR+ / DR-");
         st.Arc(target, cc_x, cc_y, dr);
       } else {
         st.Move(rapid ? PathMoveKind::kRapid : PathMoveKind::kFeed, target);
       }
       if (call) {
         if (defined_cycle != 201 || !q.count(200) || !q.count(201) || !q.count(203) || !q.count(204)) {
-          return Bad(line, "M99 without a complete CYCL DEF 201");
+          return BadBlock(line, "M99 without a complete CYCL DEF 201");
         }
         const double s = q[203];
         st.Ream(s + q[200], s + q[201], s + q[204]);
       }
       continue;
     }
-    return Bad(line, "unknown block '" + code + "'");
+    return BadBlock(line, "unknown block '" + code + "'");
   }
   return std::move(st.path);
 }

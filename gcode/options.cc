@@ -8,7 +8,7 @@
 namespace tpcal::gcode {
 namespace {
 
-Status Bad(const std::string& key, const std::string& why) {
+Status BadOption(const std::string& key, const std::string& why) {
   return {StatusCode::kInvalidArgument, key + ": " + why};
 }
 
@@ -67,44 +67,44 @@ const char* FiveAxisModeName(FiveAxisMode m) {
 }
 
 Status CSpindleOptions::Validate() const {
-  if (mode_on_mcode != -1 && !ValidMcode(mode_on_mcode)) return Bad("c_spindle.mode_on_mcode", "must be -1 or 0..999");
+  if (mode_on_mcode != -1 && !ValidMcode(mode_on_mcode)) return BadOption("c_spindle.mode_on_mcode", "must be -1 or 0..999");
   if (mode_off_mcode != -1 && !ValidMcode(mode_off_mcode)) {
-    return Bad("c_spindle.mode_off_mcode", "must be -1 or 0..999");
+    return BadOption("c_spindle.mode_off_mcode", "must be -1 or 0..999");
   }
   if ((mode_on_mcode == -1) != (mode_off_mcode == -1)) {
-    return Bad("c_spindle.mode_off_mcode", "give both mode_on_mcode and mode_off_mcode, or neither");
+    return BadOption("c_spindle.mode_off_mcode", "give both mode_on_mcode and mode_off_mcode, or neither");
   }
-  if (spindle_number < 1 || spindle_number > 9) return Bad("c_spindle.spindle_number", "must be 1..9");
-  if (!(std::isfinite(max_rpm) && max_rpm >= 0)) return Bad("c_spindle.max_rpm", "must be >= 0");
-  if (!ValidMcode(orient_mcode)) return Bad("c_spindle.orient_mcode", "must be 0..999");
+  if (spindle_number < 1 || spindle_number > 9) return BadOption("c_spindle.spindle_number", "must be 1..9");
+  if (!(std::isfinite(max_rpm) && max_rpm >= 0)) return BadOption("c_spindle.max_rpm", "must be >= 0");
+  if (!ValidMcode(orient_mcode)) return BadOption("c_spindle.orient_mcode", "must be 0..999");
   if (!(std::isfinite(orient_angle_deg) && orient_angle_deg >= 0 && orient_angle_deg < 360)) {
-    return Bad("c_spindle.orient_angle_deg", "must be in [0, 360)");
+    return BadOption("c_spindle.orient_angle_deg", "must be in [0, 360)");
   }
-  if (positive_c_mcode != 3 && positive_c_mcode != 4) return Bad("c_spindle.positive_c_mcode", "must be 3 or 4");
+  if (positive_c_mcode != 3 && positive_c_mcode != 4) return BadOption("c_spindle.positive_c_mcode", "must be 3 or 4");
   if (!ValidMcode(heidenhain_start_mcode) || !ValidMcode(heidenhain_start_mcode + 1)) {
-    return Bad("c_spindle.heidenhain_start_mcode", "must be 0..998");
+    return BadOption("c_spindle.heidenhain_start_mcode", "must be 0..998");
   }
-  if (linuxcnc_mode_bit < 0 || linuxcnc_mode_bit > 63) return Bad("c_spindle.linuxcnc_mode_bit", "must be 0..63");
+  if (linuxcnc_mode_bit < 0 || linuxcnc_mode_bit > 63) return BadOption("c_spindle.linuxcnc_mode_bit", "must be 0..63");
   if (linuxcnc_speed_channel < 0 || linuxcnc_speed_channel > 63) {
-    return Bad("c_spindle.linuxcnc_speed_channel", "must be 0..63");
+    return BadOption("c_spindle.linuxcnc_speed_channel", "must be 0..63");
   }
-  if (!(std::isfinite(css_step_mm) && css_step_mm > 0)) return Bad("c_spindle.css_step_mm", "must be > 0");
+  if (!(std::isfinite(css_step_mm) && css_step_mm > 0)) return BadOption("c_spindle.css_step_mm", "must be > 0");
   return Status::Ok();
 }
 
 Status SafetyOptions::Validate() const {
   if (!(std::isfinite(rapid_tolerance_mm) && rapid_tolerance_mm >= 0)) {
-    return Bad("safety.rapid_tolerance_mm", "must be >= 0");
+    return BadOption("safety.rapid_tolerance_mm", "must be >= 0");
   }
-  if (!(std::isfinite(rapid_sample_mm) && rapid_sample_mm > 0)) return Bad("safety.rapid_sample_mm", "must be > 0");
-  if (!(std::isfinite(tool_fit_tol_mm) && tool_fit_tol_mm >= 0)) return Bad("safety.tool_fit_tol_mm", "must be >= 0");
+  if (!(std::isfinite(rapid_sample_mm) && rapid_sample_mm > 0)) return BadOption("safety.rapid_sample_mm", "must be > 0");
+  if (!(std::isfinite(tool_fit_tol_mm) && tool_fit_tol_mm >= 0)) return BadOption("safety.tool_fit_tol_mm", "must be >= 0");
   return Status::Ok();
 }
 
 Status BackplotOptions::Validate() const {
-  if (!(std::isfinite(width_px) && width_px >= 200)) return Bad("backplot.width_px", "must be >= 200");
+  if (!(std::isfinite(width_px) && width_px >= 200)) return BadOption("backplot.width_px", "must be >= 200");
   if (!(std::isfinite(arc_segment_deg) && arc_segment_deg > 0 && arc_segment_deg <= 30)) {
-    return Bad("backplot.arc_segment_deg", "must be in (0, 30]");
+    return BadOption("backplot.arc_segment_deg", "must be in (0, 30]");
   }
   return Status::Ok();
 }
@@ -136,46 +136,46 @@ GcodeOptions GcodeOptions::ForDialect(Dialect d) {
 
 Status GcodeOptions::Validate() const {
   if (program_name.empty() || program_name.size() > 24 || !std::isupper(static_cast<unsigned char>(program_name[0]))) {
-    return Bad("program_name", "must be 1..24 characters [A-Z0-9_] starting with an upper-case letter");
+    return BadOption("program_name", "must be 1..24 characters [A-Z0-9_] starting with an upper-case letter");
   }
   for (char ch : program_name) {
     if (!(std::isupper(static_cast<unsigned char>(ch)) || std::isdigit(static_cast<unsigned char>(ch)) || ch == '_')) {
-      return Bad("program_name", "must be 1..24 characters [A-Z0-9_] starting with an upper-case letter");
+      return BadOption("program_name", "must be 1..24 characters [A-Z0-9_] starting with an upper-case letter");
     }
   }
-  if (program_number < 1 || program_number > 9999) return Bad("program_number", "must be 1..9999");
+  if (program_number < 1 || program_number > 9999) return BadOption("program_number", "must be 1..9999");
   if (!date.empty()) {
     const bool shape = date.size() == 10 && date[4] == '-' && date[7] == '-';
     bool digits = shape;
     for (int i : {0, 1, 2, 3, 5, 6, 8, 9}) digits = digits && std::isdigit(static_cast<unsigned char>(date[i]));
-    if (!digits) return Bad("date", "must be YYYY-MM-DD or empty");
+    if (!digits) return BadOption("date", "must be YYYY-MM-DD or empty");
   }
   for (char ch : generator) {
-    if (ch == '(' || ch == ')' || ch == '\n' || ch == ';') return Bad("generator", "must not contain ( ) ; or newlines");
+    if (ch == '(' || ch == ')' || ch == '\n' || ch == ';') return BadOption("generator", "must not contain ( ) ; or newlines");
   }
-  if (work_offset < 1 || work_offset > 6) return Bad("work_offset", "must be 1..6 (G54..G59 / preset 1..6)");
-  if (block_start < 0 || block_start > 99999) return Bad("block_start", "must be 0..99999");
-  if (block_step < 0 || block_step > 1000) return Bad("block_step", "must be 0..1000");
+  if (work_offset < 1 || work_offset > 6) return BadOption("work_offset", "must be 1..6 (G54..G59 / preset 1..6)");
+  if (block_start < 0 || block_start > 99999) return BadOption("block_start", "must be 0..99999");
+  if (block_step < 0 || block_step > 1000) return BadOption("block_step", "must be 0..1000");
   if (block_step == 0 && dialect == Dialect::kHeidenhain) {
-    return Bad("block_step", "Heidenhain numbers every line: block_step 0 is not possible");
+    return BadOption("block_step", "Heidenhain numbers every line: block_step 0 is not possible");
   }
-  if (linear_decimals < 3 || linear_decimals > 6) return Bad("linear_decimals", "must be 3..6");
-  if (rotary_decimals < 3 || rotary_decimals > 6) return Bad("rotary_decimals", "must be 3..6");
+  if (linear_decimals < 3 || linear_decimals > 6) return BadOption("linear_decimals", "must be 3..6");
+  if (rotary_decimals < 3 || rotary_decimals > 6) return BadOption("rotary_decimals", "must be 3..6");
   if (!(std::isfinite(default_tool_length_mm) && default_tool_length_mm > 0)) {
-    return Bad("default_tool_length_mm", "must be > 0");
+    return BadOption("default_tool_length_mm", "must be > 0");
   }
   std::set<int> pieces, numbers;
   for (std::size_t i = 0; i < tools.size(); ++i) {
     const ToolSetting& t = tools[i];
     const std::string key = "tools[" + std::to_string(i) + "]";
-    if (t.piece_tool < 1) return Bad(key + ".piece_tool", "must be >= 1");
-    if (t.number < 0 || t.number > 9999) return Bad(key + ".number", "must be 0..9999");
-    if (!(std::isfinite(t.length_mm) && t.length_mm >= 0)) return Bad(key + ".length_mm", "must be >= 0");
-    if (!pieces.insert(t.piece_tool).second) return Bad(key + ".piece_tool", "listed twice");
+    if (t.piece_tool < 1) return BadOption(key + ".piece_tool", "must be >= 1");
+    if (t.number < 0 || t.number > 9999) return BadOption(key + ".number", "must be 0..9999");
+    if (!(std::isfinite(t.length_mm) && t.length_mm >= 0)) return BadOption(key + ".length_mm", "must be >= 0");
+    if (!pieces.insert(t.piece_tool).second) return BadOption(key + ".piece_tool", "listed twice");
   }
   TPCAL_RETURN_IF_ERROR(c_spindle.Validate());
   if (dialect == Dialect::kLinuxCnc && five_axis == FiveAxisMode::kToolCenterPoint) {
-    return Bad("five_axis", "LinuxCNC (trivial kinematics in rs274) supports only joint_inverse_time");
+    return BadOption("five_axis", "LinuxCNC (trivial kinematics in rs274) supports only joint_inverse_time");
   }
   TPCAL_RETURN_IF_ERROR(safety.Validate());
   TPCAL_RETURN_IF_ERROR(backplot.Validate());

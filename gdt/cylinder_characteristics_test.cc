@@ -15,8 +15,8 @@
 namespace tpcal::gdt {
 namespace {
 
-constexpr double kTol_um = 1e-6;    // exact data, see inspection_test.cc
-constexpr double kTol_urad = 1e-3;
+constexpr double kCylinderTol_um = 1e-6;    // exact data, see inspection_test.cc
+constexpr double kCylinderTol_urad = 1e-3;
 
 // A bore of radius r whose axis passes through `mid` along `axis`, probed on two rings of 12
 // points 10 mm either side of `mid` (so the points' centroid is `mid`).
@@ -59,24 +59,24 @@ TEST(CylinderCharacteristics, AxisOrientationLocationAndSize) {
 
   // Squareness of an axis to a plane: the tilt of the axis from the datum normal, split as for
   // parallelism: about X = atan2(-u_y, u_z), about Y = atan2(u_x, u_z).
-  EXPECT_NEAR(value("sq1", "da_urad"), RadToUrad(std::atan2(-axis1.y(), axis1.z())), kTol_urad);
-  EXPECT_NEAR(value("sq1", "db_urad"), RadToUrad(std::atan2(axis1.x(), axis1.z())), kTol_urad);
+  EXPECT_NEAR(value("sq1", "da_urad"), RadToUrad(std::atan2(-axis1.y(), axis1.z())), kCylinderTol_urad);
+  EXPECT_NEAR(value("sq1", "db_urad"), RadToUrad(std::atan2(axis1.x(), axis1.z())), kCylinderTol_urad);
   const double tilt1 = std::atan2(axis1.head<2>().norm(), axis1.z());
-  EXPECT_NEAR(value("sq1", "tilt_urad"), RadToUrad(tilt1), kTol_urad);
+  EXPECT_NEAR(value("sq1", "tilt_urad"), RadToUrad(tilt1), kCylinderTol_urad);
   // Zone: the 20 mm of axis between the probed rings, projected: 20 sin(tilt).
-  EXPECT_NEAR(value("sq1", "zone_um"), MmToUm(20.0 * std::sin(tilt1)), kTol_um);
+  EXPECT_NEAR(value("sq1", "zone_um"), MmToUm(20.0 * std::sin(tilt1)), kCylinderTol_um);
 
   // Parallelism of BORE2 to BORE1: differences of the angles.
   EXPECT_NEAR(value("par21", "da_urad"),
-              RadToUrad(std::atan2(-axis2.y(), axis2.z()) - std::atan2(-axis1.y(), axis1.z())), kTol_urad);
+              RadToUrad(std::atan2(-axis2.y(), axis2.z()) - std::atan2(-axis1.y(), axis1.z())), kCylinderTol_urad);
   EXPECT_NEAR(value("par21", "db_urad"),
-              RadToUrad(std::atan2(axis2.x(), axis2.z()) - std::atan2(axis1.x(), axis1.z())), kTol_urad);
+              RadToUrad(std::atan2(axis2.x(), axis2.z()) - std::atan2(axis1.x(), axis1.z())), kCylinderTol_urad);
 
   // The axis point at the centroid of the points, in datum XY, minus S_R's centre (the origin).
-  EXPECT_NEAR(value("conc1", "dx_um"), 30000.0, kTol_um);
-  EXPECT_NEAR(value("conc1", "dy_um"), -40000.0, kTol_um);
-  EXPECT_NEAR(value("size1", "radius_error_um"), 4.0, kTol_um);
-  EXPECT_NEAR(value("size1", "diameter_error_um"), 8.0, kTol_um);
+  EXPECT_NEAR(value("conc1", "dx_um"), 30000.0, kCylinderTol_um);
+  EXPECT_NEAR(value("conc1", "dy_um"), -40000.0, kCylinderTol_um);
+  EXPECT_NEAR(value("size1", "radius_error_um"), 4.0, kCylinderTol_um);
+  EXPECT_NEAR(value("size1", "diameter_error_um"), 8.0, kCylinderTol_um);
 }
 
 }  // namespace

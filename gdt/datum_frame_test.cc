@@ -18,7 +18,7 @@ namespace {
 // the fits and transforms; 1e-9 mm / 1e-9 rad (the brief's bound) leaves a wide margin.
 constexpr double kFrameTol_mm = 1e-9;
 constexpr double kFrameTol_rad = 1e-9;
-constexpr double kMaxTranslation_mm = 1000.0;
+constexpr double kDatumMaxTranslation_mm = 1000.0;
 
 // Rotation angle of a^-1 b and distance between the translations.
 void ExpectSameFrame(const Rigid3& a, const Rigid3& b) {
@@ -73,7 +73,7 @@ TEST(TurningDatumFromCmm, RecoversThePartFrameFromAnyPlacement) {
 
   std::mt19937_64 rng(20240531);
   for (int trial = 0; trial < 5; ++trial) {
-    const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+    const Rigid3 cmm_from_part = RandomPlacement(rng, kDatumMaxTranslation_mm);
     const PointSet cmm = Transformed(part, cmm_from_part);
     auto plane = fitting::FitPlane(cmm.PointsOf("B_R"));
     ASSERT_TRUE(plane.ok()) << plane.status().ToString();
@@ -106,7 +106,7 @@ TEST(ThreeTwoOneDatumFromCmm, OriginAtTheFootOfTheTertiaryPoint) {
 
   std::mt19937_64 rng(42);
   for (int trial = 0; trial < 5; ++trial) {
-    const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+    const Rigid3 cmm_from_part = RandomPlacement(rng, kDatumMaxTranslation_mm);
     const fitting::Plane primary{cmm_from_part * primary_p.point_mm, cmm_from_part.linear() * primary_p.normal};
     const fitting::Line3 secondary{cmm_from_part * secondary_p.point_mm, cmm_from_part.linear() * secondary_p.direction};
     auto frame = ThreeTwoOneDatumFromCmm(primary, secondary, cmm_from_part * tertiary_p);
@@ -129,7 +129,7 @@ TEST(TargetsDatumFromCmm, YTowardTheSecondTargetOriginOnThePrimary) {
   const Rigid3 datum_from_part = MakeRigid(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-1, 4, -2));
   std::mt19937_64 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
-    const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+    const Rigid3 cmm_from_part = RandomPlacement(rng, kDatumMaxTranslation_mm);
     const fitting::Plane primary{cmm_from_part * primary_p.point_mm, cmm_from_part.linear() * primary_p.normal};
     auto y = TargetsDatumFromCmm(primary, cmm_from_part * center_p, cmm_from_part * target_p, true);
     ASSERT_TRUE(y.ok());

@@ -10,8 +10,8 @@
 namespace tpcal::gdt {
 namespace {
 
-constexpr double kAngleTol_rad = 1e-14;  // atan2 of exact-ish coordinates near 140 mm
-constexpr double kTol_mm = 1e-12;
+constexpr double kHoleAngleTol_rad = 1e-14;  // atan2 of exact-ish coordinates near 140 mm
+constexpr double kHoleTol_mm = 1e-12;
 
 TEST(WrapAngle, MapsIntoHalfOpenInterval) {
   EXPECT_NEAR(WrapAngle(3 * kPi), kPi, 1e-15);
@@ -34,8 +34,8 @@ TEST(EvaluateHolePattern, AngleErrorsAreCounterClockwiseAboutThePitchCentre) {
   auto r = EvaluateHolePattern(pitch, centres, nominal);
   ASSERT_TRUE(r.ok());
   for (int k = 0; k < 16; ++k) {
-    EXPECT_NEAR(r->holes[k].angle_error_rad, k == 4 ? eps : 0.0, kAngleTol_rad) << "hole " << k + 1;
-    EXPECT_NEAR(r->holes[k].radial_error_mm, k == 7 ? 0.002 : 0.0, kTol_mm) << "hole " << k + 1;
+    EXPECT_NEAR(r->holes[k].angle_error_rad, k == 4 ? eps : 0.0, kHoleAngleTol_rad) << "hole " << k + 1;
+    EXPECT_NEAR(r->holes[k].radial_error_mm, k == 7 ? 0.002 : 0.0, kHoleTol_mm) << "hole " << k + 1;
   }
   EXPECT_NEAR(r->mean_angle_error_rad, eps / 16, 1e-12);
 }

@@ -35,11 +35,11 @@ using testing::TurningTruth;
 // Exact synthetic data: coordinates up to ~1300 mm after placement carry ~1e-13 mm of double
 // rounding through transforms and fits. The bounds below (1 pm, 1 nrad) leave >1000x margin and
 // are far below any CMM resolution, so a wrong sign or formula cannot hide under them.
-constexpr double kTol_um = 1e-6;    // 1e-9 mm
-constexpr double kTol_urad = 1e-3;  // 1e-9 rad
-constexpr double kTol_mm = 1e-9;
+constexpr double kInspectionTol_um = 1e-6;    // 1e-9 mm
+constexpr double kInspectionTol_urad = 1e-3;  // 1e-9 rad
+constexpr double kInspectionTol_mm = 1e-9;
 constexpr double kTol_deg = 1e-7;   // profile angles: 1e-9 rad is 6e-8 deg
-constexpr double kMaxTranslation_mm = 1000.0;
+constexpr double kInspectionMaxTranslation_mm = 1000.0;
 
 std::string SamplePlanPath() { return std::string(TPCAL_SOURCE_DIR) + "/samples/plans/turning.yaml"; }
 
@@ -90,16 +90,16 @@ TEST_F(TurningPiece, SinglePerturbationsGiveTheirSignedValues) {
   t.b1_about_x_rad = 8.7e-6;        // B1 tilted by +8.7 urad about datum X
   t.b1_about_y_rad = 0.0;
   std::mt19937_64 rng(1);
-  auto r = Evaluate(t, RandomPlacement(rng, kMaxTranslation_mm));
+  auto r = Evaluate(t, RandomPlacement(rng, kInspectionMaxTranslation_mm));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dx_um"), 10.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dy_um"), -5.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "zone_diameter_um"), 2 * std::hypot(10.0, 5.0), kTol_um);
-  EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dx_um"), 10.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "da_urad"), 8.7, kTol_urad);
-  EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "db_urad"), 0.0, kTol_urad);
-  EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dx_um"), 0.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dy_um"), 0.0, kTol_um);
+  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dx_um"), 10.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dy_um"), -5.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "zone_diameter_um"), 2 * std::hypot(10.0, 5.0), kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dx_um"), 10.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "da_urad"), 8.7, kInspectionTol_urad);
+  EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "db_urad"), 0.0, kInspectionTol_urad);
+  EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dx_um"), 0.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dy_um"), 0.0, kInspectionTol_um);
 }
 
 // All of Table 1 at the paper's magnitudes, from several CMM placements.
@@ -108,27 +108,27 @@ TEST_F(TurningPiece, Table1ItemsMatchTheKnownErrors) {
   std::mt19937_64 rng(20240601);
   for (int trial = 0; trial < 3; ++trial) {
     SCOPED_TRACE(::testing::Message() << "placement " << trial);
-    const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+    const Rigid3 cmm_from_part = RandomPlacement(rng, kInspectionMaxTranslation_mm);
     auto r = Evaluate(t, cmm_from_part);
     ASSERT_TRUE(r.ok()) << r.status().ToString();
 
     // The datum frame: D_from_cmm = RotZ(-phi) * P_from_cmm.
     const Rigid3 expected = MakeRigid(RotZ(-t.Phi()), Eigen::Vector3d::Zero()) * cmm_from_part.inverse();
-    EXPECT_LT(Eigen::AngleAxisd(r->datum_from_cmm.linear().transpose() * expected.linear()).angle(), kTol_urad * 1e-6);
-    EXPECT_LT((r->datum_from_cmm.translation() - expected.translation()).norm(), kTol_mm);
+    EXPECT_LT(Eigen::AngleAxisd(r->datum_from_cmm.linear().transpose() * expected.linear()).angle(), kInspectionTol_urad * 1e-6);
+    EXPECT_LT((r->datum_from_cmm.translation() - expected.translation()).norm(), kInspectionTol_mm);
 
     // #1 (paper: 10.1, -17.2 um): the pitch centre, seen in D.
     const Eigen::Vector2d c1 = t.InD(t.holes_shift_mm) * kUmPerMm;
-    EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dx_um"), c1.x(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dy_um"), c1.y(), kTol_um);
+    EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dx_um"), c1.x(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dy_um"), c1.y(), kInspectionTol_um);
     // D is turned by phi = -123 urad: the paper's numbers hold to 0.01 um.
     EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dx_um"), 10.1, 0.01);
     EXPECT_NEAR(Get(*r, "t1_concentricity_Ch_SR", "dy_um"), -17.2, 0.01);
 
     // #2 (paper: -8.7, 1.7 urad): B1's normal n in D; da = atan2(-n_y, n_z), db = atan2(n_x, n_z).
     const Eigen::Vector3d n = RotZ(-t.Phi()) * RotX(t.b1_about_x_rad) * RotY(t.b1_about_y_rad) * Eigen::Vector3d::UnitZ();
-    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "da_urad"), RadToUrad(std::atan2(-n.y(), n.z())), kTol_urad);
-    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "db_urad"), RadToUrad(std::atan2(n.x(), n.z())), kTol_urad);
+    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "da_urad"), RadToUrad(std::atan2(-n.y(), n.z())), kInspectionTol_urad);
+    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "db_urad"), RadToUrad(std::atan2(n.x(), n.z())), kInspectionTol_urad);
     EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "da_urad"), -8.7, 0.01);
     EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "db_urad"), 1.7, 0.01);
     // ISO zone: the spread along Z of B1's points (D shares P's Z axis).
@@ -138,26 +138,26 @@ TEST_F(TurningPiece, Table1ItemsMatchTheKnownErrors) {
       z_lo = std::min(z_lo, part.xyz_mm[i].z());
       z_hi = std::max(z_hi, part.xyz_mm[i].z());
     }
-    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "zone_um"), MmToUm(z_hi - z_lo), kTol_um);
+    EXPECT_NEAR(Get(*r, "t2_parallelism_B1_BR", "zone_um"), MmToUm(z_hi - z_lo), kInspectionTol_um);
 
     // #3 (paper: 23.0 um) and #4 (paper: -14.5 um).
     // B3 moved up (+Z, toward B_R) by 23 um: error +23 um, separation (seed 002's dd) -23 um.
-    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "error_um"), 23.0, kTol_um);
-    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "separation_error_um"), -23.0, kTol_um);
-    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "distance_mm"), testing::kZB3 + 0.023, kTol_mm);
-    EXPECT_NEAR(Get(*r, "t4_size_S3", "radius_error_um"), -14.5, kTol_um);
-    EXPECT_NEAR(Get(*r, "t4_size_S3", "diameter_error_um"), -29.0, kTol_um);
+    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "error_um"), 23.0, kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "separation_error_um"), -23.0, kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t3_distance_B3_BR", "distance_mm"), testing::kZB3 + 0.023, kInspectionTol_mm);
+    EXPECT_NEAR(Get(*r, "t4_size_S3", "radius_error_um"), -14.5, kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t4_size_S3", "diameter_error_um"), -29.0, kInspectionTol_um);
 
     // #5, #6, #7.
     const Eigen::Vector2d c5 = t.InD(t.s4_shift_mm) * kUmPerMm;
     const Eigen::Vector2d c6 = t.InD(t.s4_shift_mm - t.s1_shift_mm) * kUmPerMm;
     const Eigen::Vector2d c7 = t.InD(t.s6_shift_mm - t.s3_shift_mm) * kUmPerMm;
-    EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dx_um"), c5.x(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dy_um"), c5.y(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dx_um"), c6.x(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dy_um"), c6.y(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dx_um"), c7.x(), kTol_um);
-    EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dy_um"), c7.y(), kTol_um);
+    EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dx_um"), c5.x(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t5_concentricity_S4_SR", "dy_um"), c5.y(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dx_um"), c6.x(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t6_concentricity_S4_S1", "dy_um"), c6.y(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dx_um"), c7.x(), kInspectionTol_um);
+    EXPECT_NEAR(Get(*r, "t7_concentricity_S6_S3", "dy_um"), c7.y(), kInspectionTol_um);
     EXPECT_NEAR(c6.x(), -1.2, 0.01);
     EXPECT_NEAR(c6.y(), -0.7, 0.01);
     EXPECT_NEAR(c7.x(), -0.3, 0.01);
@@ -167,10 +167,10 @@ TEST_F(TurningPiece, Table1ItemsMatchTheKnownErrors) {
     for (int k = 1; k <= 16; ++k) {
       const double expected_rad = (k == t.rotated_hole ? t.rotated_hole_rad : 0.0) - t.Phi();
       EXPECT_NEAR(Get(*r, "hole_pattern_Ch", HoleName(k) + ".angle_error_urad"), RadToUrad(expected_rad),
-                  kTol_urad);
-      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", HoleName(k) + ".radial_error_um"), 0.0, kTol_um);
+                  kInspectionTol_urad);
+      EXPECT_NEAR(Get(*r, "hole_pattern_Ch", HoleName(k) + ".radial_error_um"), 0.0, kInspectionTol_um);
     }
-    EXPECT_NEAR(Get(*r, "hole_pattern_Ch", "radius_error_um"), 0.0, kTol_um);
+    EXPECT_NEAR(Get(*r, "hole_pattern_Ch", "radius_error_um"), 0.0, kInspectionTol_um);
   }
 }
 
@@ -179,7 +179,7 @@ TEST_F(TurningPiece, CircularityProfilesFollowTheDatumAngle) {
   const TurningTruth t;
   std::mt19937_64 rng(99);
   const PointSet part = MakeTurningPiece(t);
-  auto r = EvaluatePlan(plan_, Transformed(part, RandomPlacement(rng, kMaxTranslation_mm)));
+  auto r = EvaluatePlan(plan_, Transformed(part, RandomPlacement(rng, kInspectionMaxTranslation_mm)));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const std::pair<const char*, std::pair<const char*, std::function<double(double)>>> profiles[] = {
       {"ta_circularity_S1", {"S1", t.dr_s1}}, {"tb_circularity_S3", {"S3", t.dr_s3}},
@@ -195,7 +195,7 @@ TEST_F(TurningPiece, CircularityProfilesFollowTheDatumAngle) {
     double lo = 1e9, hi = -1e9, previous_theta = -1;
     for (const ProfileSample& s : c->profile) {
       const double theta_p = ThetaOfPoint(part, s.point_index, feature);
-      EXPECT_NEAR(s.dr_um, MmToUm(dr(theta_p)), kTol_um);
+      EXPECT_NEAR(s.dr_um, MmToUm(dr(theta_p)), kInspectionTol_um);
       double expected_deg = RadToDeg(WrapAngle(theta_p - t.Phi()));
       if (expected_deg < 0) expected_deg += 360.0;
       EXPECT_NEAR(s.theta_deg, expected_deg, kTol_deg);
@@ -204,7 +204,7 @@ TEST_F(TurningPiece, CircularityProfilesFollowTheDatumAngle) {
       lo = std::min(lo, MmToUm(dr(theta_p)));
       hi = std::max(hi, MmToUm(dr(theta_p)));
     }
-    EXPECT_NEAR(c->Value("circularity_um").value_or(-1), hi - lo, kTol_um);
+    EXPECT_NEAR(c->Value("circularity_um").value_or(-1), hi - lo, kInspectionTol_um);
     EXPECT_EQ(c->criterion, FormCriterion::kLeastSquares);
   }
 }
@@ -213,10 +213,10 @@ TEST_F(TurningPiece, CircularityProfilesFollowTheDatumAngle) {
 TEST_F(TurningPiece, CharacteristicsDoNotDependOnThePlacement) {
   const TurningTruth t;
   std::mt19937_64 rng(5);
-  auto first = Evaluate(t, RandomPlacement(rng, kMaxTranslation_mm));
+  auto first = Evaluate(t, RandomPlacement(rng, kInspectionMaxTranslation_mm));
   ASSERT_TRUE(first.ok()) << first.status().ToString();
   for (int trial = 0; trial < 3; ++trial) {
-    auto other = Evaluate(t, RandomPlacement(rng, kMaxTranslation_mm));
+    auto other = Evaluate(t, RandomPlacement(rng, kInspectionMaxTranslation_mm));
     ASSERT_TRUE(other.ok());
     ASSERT_EQ(first->characteristics.size(), other->characteristics.size());
     for (std::size_t i = 0; i < first->characteristics.size(); ++i) {
@@ -224,7 +224,7 @@ TEST_F(TurningPiece, CharacteristicsDoNotDependOnThePlacement) {
       const auto& b = other->characteristics[i];
       ASSERT_EQ(a.values.size(), b.values.size()) << a.name;
       for (std::size_t j = 0; j < a.values.size(); ++j) {
-        const double tol = a.values[j].unit == "um" ? kTol_um : a.values[j].unit == "urad" ? kTol_urad : kTol_mm;
+        const double tol = a.values[j].unit == "um" ? kInspectionTol_um : a.values[j].unit == "urad" ? kInspectionTol_urad : kInspectionTol_mm;
         EXPECT_NEAR(a.values[j].value, b.values[j].value, tol) << a.name << " " << a.values[j].name;
       }
     }
@@ -235,7 +235,7 @@ TEST_F(TurningPiece, TooFewPointsCitesTheFirstPointOfTheFeature) {
   TurningTruth t;
   t.h3_points = 2;
   std::mt19937_64 rng(3);
-  const PointSet ps = Transformed(MakeTurningPiece(t), RandomPlacement(rng, kMaxTranslation_mm));
+  const PointSet ps = Transformed(MakeTurningPiece(t), RandomPlacement(rng, kInspectionMaxTranslation_mm));
   auto r = EvaluatePlan(plan_, ps);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kTooFewPoints);
@@ -266,30 +266,30 @@ TEST_F(TurningPiece, MinimumZoneCircularityComesFromTheFittingLayer) {
     if (c.name == "circularity_S2") c.criterion = FormCriterion::kMinimumZone;
   auto r = EvaluatePlan(plan, Transformed(MakeTurningPiece(TurningTruth{}), Rigid3::Identity()));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_NEAR(Get(*r, "circularity_S2", "circularity_um"), 2.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "circularity_S2", "mz_um"), 2.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "circularity_S2", "ls_um"), 2.0, kTol_um);
+  EXPECT_NEAR(Get(*r, "circularity_S2", "circularity_um"), 2.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "circularity_S2", "mz_um"), 2.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "circularity_S2", "ls_um"), 2.0, kInspectionTol_um);
   // S1's two harmonics: the minimum zone can only be narrower than the LS range.
   for (auto& c : plan.characteristics)
     if (c.name == "ta_circularity_S1") c.criterion = FormCriterion::kMinimumZone;
   r = EvaluatePlan(plan, Transformed(MakeTurningPiece(TurningTruth{}), Rigid3::Identity()));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_LE(Get(*r, "ta_circularity_S1", "mz_um"), Get(*r, "ta_circularity_S1", "ls_um") + kTol_um);
+  EXPECT_LE(Get(*r, "ta_circularity_S1", "mz_um"), Get(*r, "ta_circularity_S1", "ls_um") + kInspectionTol_um);
   EXPECT_GT(Get(*r, "ta_circularity_S1", "mz_um"), 0.0);
 }
 
 TEST_F(TurningPiece, FittedFeaturesAreReportedInTheDatumFrame) {
   const TurningTruth t;
   std::mt19937_64 rng(11);
-  auto r = Evaluate(t, RandomPlacement(rng, kMaxTranslation_mm));
+  auto r = Evaluate(t, RandomPlacement(rng, kInspectionMaxTranslation_mm));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const FittedFeature* s_r = r->Feature("S_R");
   ASSERT_NE(s_r, nullptr);
   const auto* c = s_r->As<fitting::Circle2>();
   ASSERT_NE(c, nullptr);
-  EXPECT_LT(c->feature.center_mm.norm(), kTol_mm);  // the origin, by construction
-  EXPECT_NEAR(c->feature.radius_mm, testing::kRSR, kTol_mm);
-  EXPECT_NEAR(s_r->height_mm, testing::kZSR, kTol_mm);
+  EXPECT_LT(c->feature.center_mm.norm(), kInspectionTol_mm);  // the origin, by construction
+  EXPECT_NEAR(c->feature.radius_mm, testing::kRSR, kInspectionTol_mm);
+  EXPECT_NEAR(s_r->height_mm, testing::kZSR, kInspectionTol_mm);
   const FittedFeature* b_r = r->Feature("B_R");
   ASSERT_NE(b_r->As<fitting::Plane>(), nullptr);
   EXPECT_LT((b_r->As<fitting::Plane>()->feature.normal - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
@@ -298,13 +298,13 @@ TEST_F(TurningPiece, FittedFeaturesAreReportedInTheDatumFrame) {
   EXPECT_EQ(ch->kind, FeatureKind::kPitchCircle);
   EXPECT_EQ(ch->members.size(), 16u);
   ASSERT_TRUE(r->Feature("S1")->form_mm().has_value());
-  EXPECT_NEAR(MmToUm(*r->Feature("S4")->form_mm()), 1.0, kTol_um);  // 0.5 um cos(2 theta): range 1 um
+  EXPECT_NEAR(MmToUm(*r->Feature("S4")->form_mm()), 1.0, kInspectionTol_um);  // 0.5 um cos(2 theta): range 1 um
 }
 
 TEST(EvaluateAdHoc, FitsEveryLabelledFeatureWithKindsFromNormals) {
   const TurningTruth t;
   std::mt19937_64 rng(17);
-  const Rigid3 cmm_from_part = RandomPlacement(rng, kMaxTranslation_mm);
+  const Rigid3 cmm_from_part = RandomPlacement(rng, kInspectionMaxTranslation_mm);
   const PointSet ps = Transformed(MakeTurningPiece(t), cmm_from_part);
   auto r = EvaluateAdHoc(ps, {});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
@@ -316,7 +316,7 @@ TEST(EvaluateAdHoc, FitsEveryLabelledFeatureWithKindsFromNormals) {
   const auto* s4 = r->Feature("S4")->As<fitting::Circle3>();
   ASSERT_NE(s4, nullptr);
   const Eigen::Vector3d expected = cmm_from_part * Eigen::Vector3d(t.s4_shift_mm.x(), t.s4_shift_mm.y(), kZ4);
-  EXPECT_LT((s4->feature.center_mm - expected).norm(), kTol_mm);
+  EXPECT_LT((s4->feature.center_mm - expected).norm(), kInspectionTol_mm);
 }
 
 TEST(EvaluateAdHoc, WithoutNormalsEveryKindMustBeGiven) {
@@ -386,14 +386,14 @@ TEST(ThreeTwoOnePlan, FrameSquarenessAndPosition) {
   part.normal.clear();
 
   std::mt19937_64 rng(8);
-  auto r = EvaluatePlan(*plan, Transformed(part, RandomPlacement(rng, kMaxTranslation_mm)));
+  auto r = EvaluatePlan(*plan, Transformed(part, RandomPlacement(rng, kInspectionMaxTranslation_mm)));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_NEAR(Get(*r, "sq", "angle_urad"), 12.0, kTol_urad);
-  EXPECT_NEAR(Get(*r, "sq", "zone_um"), MmToUm(20.0 * std::sin(d)), kTol_um);
-  EXPECT_NEAR(Get(*r, "pos", "dx_um"), 4.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "pos", "dy_um"), -3.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "pos", "position_diameter_um"), 10.0, kTol_um);
-  EXPECT_NEAR(Get(*r, "flat", "flatness_um"), 0.0, kTol_um);
+  EXPECT_NEAR(Get(*r, "sq", "angle_urad"), 12.0, kInspectionTol_urad);
+  EXPECT_NEAR(Get(*r, "sq", "zone_um"), MmToUm(20.0 * std::sin(d)), kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "pos", "dx_um"), 4.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "pos", "dy_um"), -3.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "pos", "position_diameter_um"), 10.0, kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "flat", "flatness_um"), 0.0, kInspectionTol_um);
 }
 
 }  // namespace
@@ -432,11 +432,11 @@ TEST(FormCharacteristics, LeastSquaresAndMinimumZoneValues) {
   // Line spacing 10 mm: slope h/50; the scaled values are h (MZ) and 1.2 h cos(atan(h/50)).
   auto r = EvaluatePlan(plan, ps);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_NEAR(Get(*r, "flat", "flatness_um"), MmToUm(2 * a), kTol_um);  // the feature's criterion: mz
-  EXPECT_NEAR(Get(*r, "flat", "ls_um"), MmToUm(2 * a), kTol_um);
-  EXPECT_NEAR(MmToUm(*r->Feature("P")->form_mm()), MmToUm(2 * a), kTol_um);
-  EXPECT_NEAR(Get(*r, "straight", "straightness_um"), MmToUm(h), kTol_um);
-  EXPECT_NEAR(Get(*r, "straight", "ls_um"), MmToUm(1.2 * h * std::cos(std::atan(h / 50))), kTol_um);
+  EXPECT_NEAR(Get(*r, "flat", "flatness_um"), MmToUm(2 * a), kInspectionTol_um);  // the feature's criterion: mz
+  EXPECT_NEAR(Get(*r, "flat", "ls_um"), MmToUm(2 * a), kInspectionTol_um);
+  EXPECT_NEAR(MmToUm(*r->Feature("P")->form_mm()), MmToUm(2 * a), kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "straight", "straightness_um"), MmToUm(h), kInspectionTol_um);
+  EXPECT_NEAR(Get(*r, "straight", "ls_um"), MmToUm(1.2 * h * std::cos(std::atan(h / 50))), kInspectionTol_um);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 namespace tpcal::gdt {
 namespace {
 
-constexpr double kTol_mm = 1e-12;  // closed-form arithmetic on coordinates below 1000 mm
+constexpr double kLocationTol_mm = 1e-12;  // closed-form arithmetic on coordinates below 1000 mm
 
 TEST(InPlane, CoordinatesAreRightHandedAboutThePlaneNormal) {
   const Eigen::Vector3d p(1, 2, 3);
@@ -26,11 +26,11 @@ TEST(InPlane, CoordinatesAreRightHandedAboutThePlaneNormal) {
 TEST(CenterOffset, IsFeatureMinusDatum) {
   // Seed 002 #5: S4's centre at (+12.9, -23.3) um from S_R's gives (dx, dy) = (12.9, -23.3) um.
   const PlanarOffset o = CenterOffset({0.0129, -0.0233}, {0.0, 0.0});
-  EXPECT_NEAR(o.delta_mm.x(), 0.0129, kTol_mm);
-  EXPECT_NEAR(o.delta_mm.y(), -0.0233, kTol_mm);
-  EXPECT_NEAR(o.zone_diameter_mm, 2 * std::hypot(0.0129, 0.0233), kTol_mm);
+  EXPECT_NEAR(o.delta_mm.x(), 0.0129, kLocationTol_mm);
+  EXPECT_NEAR(o.delta_mm.y(), -0.0233, kLocationTol_mm);
+  EXPECT_NEAR(o.zone_diameter_mm, 2 * std::hypot(0.0129, 0.0233), kLocationTol_mm);
   const PlanarOffset r = CenterOffset({0.0, 0.0}, {0.0129, -0.0233});
-  EXPECT_NEAR(r.delta_mm.x(), -0.0129, kTol_mm);
+  EXPECT_NEAR(r.delta_mm.x(), -0.0129, kLocationTol_mm);
 }
 
 TEST(PlaneDistance, SignedAlongTheDatumNormal) {
@@ -38,14 +38,14 @@ TEST(PlaneDistance, SignedAlongTheDatumNormal) {
   // A face 25 mm below the datum, 23 um higher than nominal.
   const fitting::Plane b3{{10, -40, -25.0 + 0.023}, {0, 0, 1}};
   const PlaneDistanceResult r = PlaneDistance(b3, datum, -25.0);
-  EXPECT_NEAR(r.distance_mm, -24.977, kTol_mm);
-  EXPECT_NEAR(r.error_mm, 0.023, kTol_mm);
-  EXPECT_NEAR(r.separation_error_mm, -0.023, kTol_mm);  // closer to the datum than nominal
+  EXPECT_NEAR(r.distance_mm, -24.977, kLocationTol_mm);
+  EXPECT_NEAR(r.error_mm, 0.023, kLocationTol_mm);
+  EXPECT_NEAR(r.separation_error_mm, -0.023, kLocationTol_mm);  // closer to the datum than nominal
   // The feature's normal sense does not matter; the datum's does.
   const fitting::Plane b3_flipped{b3.point_mm, {0, 0, -1}};
-  EXPECT_NEAR(PlaneDistance(b3_flipped, datum, -25.0).error_mm, 0.023, kTol_mm);
+  EXPECT_NEAR(PlaneDistance(b3_flipped, datum, -25.0).error_mm, 0.023, kLocationTol_mm);
   const fitting::Plane datum_down{{0, 0, 0}, {0, 0, -1}};
-  EXPECT_NEAR(PlaneDistance(b3, datum_down, 25.0).error_mm, -0.023, kTol_mm);
+  EXPECT_NEAR(PlaneDistance(b3, datum_down, 25.0).error_mm, -0.023, kLocationTol_mm);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace tpcal::gdt {
 namespace {
 
 // Closed-form geometry in double precision: angles agree to a few ulp of 1 rad.
-constexpr double kAngleTol_rad = 1e-14;
+constexpr double kOrientationAngleTol_rad = 1e-14;
 // Zone widths over a 160 mm ring: a few ulp of the coordinates.
 constexpr double kZoneTol_mm = 1e-12;
 
@@ -29,17 +29,17 @@ TEST(TiltOf, RotationAboutXOfTheDatumNormalGivesDaOnly) {
     const TiltAngles t = TiltOf(RotX(a) * kZ, kZ);
     EXPECT_EQ(t.axis_i, 0);  // about X
     EXPECT_EQ(t.axis_j, 1);  // about Y
-    EXPECT_NEAR(t.about_i_rad, a, kAngleTol_rad);
-    EXPECT_NEAR(t.about_j_rad, 0.0, kAngleTol_rad);
-    EXPECT_NEAR(t.total_rad, std::abs(a), kAngleTol_rad);
+    EXPECT_NEAR(t.about_i_rad, a, kOrientationAngleTol_rad);
+    EXPECT_NEAR(t.about_j_rad, 0.0, kOrientationAngleTol_rad);
+    EXPECT_NEAR(t.total_rad, std::abs(a), kOrientationAngleTol_rad);
   }
 }
 
 TEST(TiltOf, RotationAboutYOfTheDatumNormalGivesDbOnly) {
   for (double b : kAngles) {
     const TiltAngles t = TiltOf(RotY(b) * kZ, kZ);
-    EXPECT_NEAR(t.about_i_rad, 0.0, kAngleTol_rad);
-    EXPECT_NEAR(t.about_j_rad, b, kAngleTol_rad);
+    EXPECT_NEAR(t.about_i_rad, 0.0, kOrientationAngleTol_rad);
+    EXPECT_NEAR(t.about_j_rad, b, kOrientationAngleTol_rad);
   }
 }
 
@@ -47,16 +47,16 @@ TEST(TiltOf, SlopeFormOfTheSignRule) {
   // A face z = s_y * y rises toward +Y: da = atan(s_y) > 0. A face z = s_x * x: db = -atan(s_x).
   const double s = 2e-5;
   const Eigen::Vector3d n_rising_y = Eigen::Vector3d(0, -s, 1).normalized();
-  EXPECT_NEAR(TiltOf(n_rising_y, kZ).about_i_rad, std::atan(s), kAngleTol_rad);
+  EXPECT_NEAR(TiltOf(n_rising_y, kZ).about_i_rad, std::atan(s), kOrientationAngleTol_rad);
   const Eigen::Vector3d n_rising_x = Eigen::Vector3d(-s, 0, 1).normalized();
-  EXPECT_NEAR(TiltOf(n_rising_x, kZ).about_j_rad, -std::atan(s), kAngleTol_rad);
+  EXPECT_NEAR(TiltOf(n_rising_x, kZ).about_j_rad, -std::atan(s), kOrientationAngleTol_rad);
 }
 
 TEST(TiltOf, OppositeNormalIsTheSamePlane) {
   const TiltAngles a = TiltOf(RotX(3e-6) * kZ, kZ);
   const TiltAngles b = TiltOf(-(RotX(3e-6) * kZ), kZ);
-  EXPECT_NEAR(a.about_i_rad, b.about_i_rad, kAngleTol_rad);
-  EXPECT_NEAR(a.about_j_rad, b.about_j_rad, kAngleTol_rad);
+  EXPECT_NEAR(a.about_i_rad, b.about_i_rad, kOrientationAngleTol_rad);
+  EXPECT_NEAR(a.about_j_rad, b.about_j_rad, kOrientationAngleTol_rad);
 }
 
 TEST(TiltOf, DominantXAndYDatumAxesUseTheCyclicPairs) {
@@ -64,22 +64,22 @@ TEST(TiltOf, DominantXAndYDatumAxesUseTheCyclicPairs) {
   TiltAngles t = TiltOf(RotY(4e-6) * kX, kX);
   EXPECT_EQ(t.axis_i, 1);
   EXPECT_EQ(t.axis_j, 2);
-  EXPECT_NEAR(t.about_i_rad, 4e-6, kAngleTol_rad);
+  EXPECT_NEAR(t.about_i_rad, 4e-6, kOrientationAngleTol_rad);
   t = TiltOf(RotZ(-5e-6) * kX, kX);
-  EXPECT_NEAR(t.about_j_rad, -5e-6, kAngleTol_rad);
+  EXPECT_NEAR(t.about_j_rad, -5e-6, kOrientationAngleTol_rad);
   // Datum along Y: angles about Z (c) then X (a).
   t = TiltOf(RotZ(6e-6) * kY, kY);
   EXPECT_EQ(t.axis_i, 2);
   EXPECT_EQ(t.axis_j, 0);
-  EXPECT_NEAR(t.about_i_rad, 6e-6, kAngleTol_rad);
+  EXPECT_NEAR(t.about_i_rad, 6e-6, kOrientationAngleTol_rad);
   t = TiltOf(RotX(7e-6) * kY, kY);
-  EXPECT_NEAR(t.about_j_rad, 7e-6, kAngleTol_rad);
+  EXPECT_NEAR(t.about_j_rad, 7e-6, kOrientationAngleTol_rad);
 }
 
 TEST(TiltOf, AnglesAreRelativeToATiltedDatum) {
   const Eigen::Vector3d v = RotX(2e-6) * kZ;
   const TiltAngles t = TiltOf(RotX(5e-6) * kZ, v);
-  EXPECT_NEAR(t.about_i_rad, 3e-6, kAngleTol_rad);
+  EXPECT_NEAR(t.about_i_rad, 3e-6, kOrientationAngleTol_rad);
 }
 
 std::vector<Eigen::Vector3d> Ring(double radius, double z, const Eigen::Matrix3d& r = Eigen::Matrix3d::Identity()) {
@@ -96,7 +96,7 @@ TEST(PlaneParallelism, ZoneIsTheTiltOverTheFeatureWidth) {
   const Eigen::Matrix3d r = RotX(a);
   const auto pts = Ring(radius, -5.0, r);
   const ParallelismResult p = PlaneParallelism(r * kZ, Eigen::Vector3d(0, 0, -5.0), kZ, pts);
-  EXPECT_NEAR(p.tilt.about_i_rad, a, kAngleTol_rad);
+  EXPECT_NEAR(p.tilt.about_i_rad, a, kOrientationAngleTol_rad);
   // The ring's points at +-Y are 2 R apart along Y: the zone is 2 R sin(a).
   EXPECT_NEAR(p.zone_mm, 2 * radius * std::sin(a), kZoneTol_mm);
   EXPECT_NEAR(p.tilt_zone_mm, 2 * radius * std::sin(a), kZoneTol_mm);
@@ -121,11 +121,11 @@ TEST(Squareness, PlaneToPlaneAngleIsPositiveBelowNinetyDegrees) {
   auto r = EvaluateSquareness(DirectedKind::kPlaneNormal, u, face, DirectedKind::kPlaneNormal, kZ);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   ASSERT_TRUE(r->angle_rad.has_value());
-  EXPECT_NEAR(*r->angle_rad, d, kAngleTol_rad);
+  EXPECT_NEAR(*r->angle_rad, d, kOrientationAngleTol_rad);
   EXPECT_NEAR(r->zone_mm, 50.0 * std::sin(d), kZoneTol_mm);
   // Flipping the datum's sense flips the sign: the sense rules of the plan matter.
   auto flipped = EvaluateSquareness(DirectedKind::kPlaneNormal, u, face, DirectedKind::kPlaneNormal, -kZ);
-  EXPECT_NEAR(*flipped->angle_rad, -d, kAngleTol_rad);
+  EXPECT_NEAR(*flipped->angle_rad, -d, kOrientationAngleTol_rad);
 }
 
 TEST(Squareness, AxisToPlaneGivesTiltComponents) {
@@ -135,7 +135,7 @@ TEST(Squareness, AxisToPlaneGivesTiltComponents) {
   auto r = EvaluateSquareness(DirectedKind::kAxis, u, axis_points, DirectedKind::kPlaneNormal, kZ);
   ASSERT_TRUE(r.ok());
   ASSERT_TRUE(r->tilt.has_value());
-  EXPECT_NEAR(r->tilt->about_i_rad, a, kAngleTol_rad);
+  EXPECT_NEAR(r->tilt->about_i_rad, a, kOrientationAngleTol_rad);
   EXPECT_NEAR(r->zone_mm, 80.0 * std::sin(a), kZoneTol_mm);
 }
 

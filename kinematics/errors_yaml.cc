@@ -13,7 +13,7 @@ namespace y = yaml_internal;
 
 namespace {
 
-constexpr const char* kSchema = "tpcal.errors/1";
+constexpr const char* kErrorsSchema = "tpcal.errors/1";
 
 // Internal units per unit named in a key suffix, for a quantity; nullopt if not allowed.
 std::optional<double> UnitScale(const std::string& unit, Quantity q) {
@@ -62,7 +62,7 @@ class Reader {
       if (e.key == "schema") {
         Result<std::string> s = y::String(src_, e.value, "schema");
         TPCAL_RETURN_IF_ERROR(s);
-        if (*s != kSchema) return y::Error(src_, e.value, "schema: expected " + std::string(kSchema));
+        if (*s != kErrorsSchema) return y::Error(src_, e.value, "schema: expected " + std::string(kErrorsSchema));
       } else if (e.key == "machine") {
         Result<std::string> s = y::String(src_, e.value, "machine");
         TPCAL_RETURN_IF_ERROR(s);

@@ -12,7 +12,7 @@ namespace y = yaml_internal;
 
 namespace {
 
-constexpr const char* kSchema = "tpcal.machine/1";
+constexpr const char* kMachineSchema = "tpcal.machine/1";
 
 Result<std::vector<Axis>> AxisList(const std::string& src, const YAML::Node& n,
                                    const std::string& what) {
@@ -83,7 +83,7 @@ Result<MachineModel> Parse(const std::string& src, const YAML::Node& root) {
   if (const y::MapEntry* e = y::Find(*entries, "schema")) {
     Result<std::string> s = y::String(src, e->value, "schema");
     TPCAL_RETURN_IF_ERROR(s);
-    if (*s != kSchema) return y::Error(src, e->value, "schema: expected " + std::string(kSchema) + ", got " + *s);
+    if (*s != kMachineSchema) return y::Error(src, e->value, "schema: expected " + std::string(kMachineSchema) + ", got " + *s);
   }
   const y::MapEntry* type_entry = y::Find(*entries, "type");
   if (!type_entry) return y::Error(src, root, "machine file: missing 'type' (ac_table, bc_table, bhead_ctable or xyz)");

@@ -16,7 +16,7 @@
 namespace tpcal::kinematics {
 namespace {
 
-MachineModel Machine(MachineType t) {
+MachineModel SimulatedMachine(MachineType t) {
   Result<MachineModel> m = MakeMachine(t);
   EXPECT_TRUE(m.ok());
   return *m;
@@ -85,7 +85,7 @@ const MachineType kAll[] = {MachineType::kAcTable, MachineType::kBcTable, Machin
 TEST(Simulate, ZeroErrorsGiveZeroDeviation) {
   std::mt19937_64 rng(101);
   for (MachineType t : kAll) {
-    const MachineModel m = Machine(t);
+    const MachineModel m = SimulatedMachine(t);
     const ErrorState none(m);
     Workspace ws;
     for (int i = 0; i < 200; ++i) {
@@ -102,7 +102,7 @@ TEST(Simulate, ZeroErrorsGiveZeroDeviation) {
 TEST(Simulate, SolutionLiesOnTheActualSweptSurface) {
   std::mt19937_64 rng(102);
   for (MachineType t : kAll) {
-    const MachineModel m = Machine(t);
+    const MachineModel m = SimulatedMachine(t);
     const ErrorState e = SomeErrors(m, 1.0, rng);
     Workspace ws;
     for (int i = 0; i < 100; ++i) {
@@ -127,7 +127,7 @@ TEST(Simulate, FirstOrderAgreesToSecondOrder) {
   std::mt19937_64 rng(103);
   int checked = 0;
   for (MachineType t : kAll) {
-    const MachineModel m = Machine(t);
+    const MachineModel m = SimulatedMachine(t);
     for (int i = 0; i < 40; ++i) {
       const uint64_t seed = rng();
       std::mt19937_64 r1(seed), r2(seed);
@@ -154,7 +154,7 @@ TEST(Simulate, TurnedRadiusFollowsRadialErrorMotion) {
   // ac_table, A = 0: S1 of seed 002 (r = 160 mm at z = 400.702) turned with the C table's radial
   // error motion E_XC(c) = e cos 2c. The table moves +X toward the tool, so the turned radius at
   // part azimuth theta = C is r - e cos 2 theta (conventions.h sign).
-  const MachineModel m = Machine(MachineType::kAcTable);
+  const MachineModel m = SimulatedMachine(MachineType::kAcTable);
   ErrorState e(m);
   ErrorTerm f;
   f.kind = TermKind::kFourier;
@@ -188,7 +188,7 @@ TEST(Simulate, TurnedRadiusFollowsRadialErrorMotion) {
 TEST(Simulate, DeviationJacobianMatchesFiniteDifferences) {
   std::mt19937_64 rng(104);
   for (MachineType t : kAll) {
-    const MachineModel m = Machine(t);
+    const MachineModel m = SimulatedMachine(t);
     ErrorState e = SomeErrors(m, 1.0, rng);
     const ActiveSet all = AllCoefficients(e);
     Workspace ws;
@@ -253,7 +253,7 @@ TEST(Simulate, ConvergesWhenTheErrorSlopeRivalsTheNetSweepSpeed) {
   // contracted by 0.3 per step and stopped after 20 iterations (kNotConverged).
   // Truth: ReferenceSolve (plain chain, finite-difference Newton to 1e-13 mm); tolerance 1e-9 mm
   // on s and on the defining equation (the solver's own tolerance is 1e-10 mm on the step).
-  const MachineModel m = Machine(MachineType::kAcTable);
+  const MachineModel m = SimulatedMachine(MachineType::kAcTable);
   CutPoint c;
   c.axes.y_mm = -48.380147906515909;
   c.axes.z_mm = 17.547411415090018;
@@ -304,7 +304,7 @@ TEST(Simulate, ConvergesWhenTheErrorSlopeRivalsTheNetSweepSpeed) {
 }
 
 TEST(Simulate, BadCutPointsFailClearly) {
-  const MachineModel m = Machine(MachineType::kAcTable);
+  const MachineModel m = SimulatedMachine(MachineType::kAcTable);
   const ErrorState none(m);
   Workspace ws;
   CutPoint c;

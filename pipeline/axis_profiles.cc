@@ -45,7 +45,7 @@ Result<std::vector<Sample>> ProfileByC(const IdentifyStageResult& stage, const s
 }
 
 // Periodic linear interpolation of a profile sorted by C.
-double At(const std::vector<Sample>& p, double c_deg) {
+double ProfileAt(const std::vector<Sample>& p, double c_deg) {
   const auto it = std::lower_bound(p.begin(), p.end(), c_deg, [](const Sample& s, double c) { return s.c_deg < c; });
   const Sample& hi = it == p.end() ? p.front() : *it;
   const Sample& lo = it == p.begin() ? p.back() : *(it - 1);
@@ -81,7 +81,7 @@ Result<std::vector<CAxisErrorMotion>> CAxisErrorMotions(const testpieces::TestPi
     for (const Sample& s : *upper) {
       c.push_back(s.c_deg);
       du.push_back(s.dr_um);
-      dl.push_back(At(*lower, s.c_deg));
+      dl.push_back(ProfileAt(*lower, s.c_deg));
     }
     auto profile = kinematics::SeparateErrorMotion(c, du, dl, p->steps[pair.upper_step].probe_z_mm,
                                                    p->steps[pair.lower_step].probe_z_mm);

@@ -24,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadText(const fs::path& path) {
+std::string ReadBatchText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -121,7 +121,7 @@ void CheckBatch(int n_files, const std::vector<int>& corrupt_files) {
   const BatchItem& few_item = result->items[static_cast<std::size_t>(too_few)];
   EXPECT_NE(few_item.status.ToString().find("S4"), std::string::npos) << few_item.status.ToString();
 
-  const std::string summary = ReadText(dir / "out" / "summary.csv");
+  const std::string summary = ReadBatchText(dir / "out" / "summary.csv");
   EXPECT_EQ(CountLines(summary), kFiles + 1);
   EXPECT_NE(summary.find("dx_CR(0)_um"), std::string::npos);
   EXPECT_EQ(CountLines(summary) - 1, (kFiles - 3) + 3);
@@ -139,7 +139,7 @@ void CheckBatch(int n_files, const std::vector<int>& corrupt_files) {
   const std::vector<std::string> first(files->begin(), files->begin() + n_serial);
   auto serial = RunBatch(first, options);
   ASSERT_TRUE(serial.ok());
-  const std::string serial_summary = ReadText(dir / "out1" / "summary.csv");
+  const std::string serial_summary = ReadBatchText(dir / "out1" / "summary.csv");
   std::istringstream a(summary), b(serial_summary);
   std::string la, lb;
   for (int row = 0; row < n_serial + 1 && std::getline(a, la) && std::getline(b, lb); ++row) EXPECT_EQ(la, lb) << row;

@@ -19,7 +19,7 @@ Status At(const std::string& source, const YAML::Node& node, const std::string& 
   return Status(StatusCode::kParseError, what, source, mark.line >= 0 ? static_cast<std::size_t>(mark.line) + 1 : 0);
 }
 
-std::string Resolve(const std::string& source, const std::string& path) {
+std::string ResolveTruthPath(const std::string& source, const std::string& path) {
   if (path.empty() || fs::path(path).is_absolute()) return path;
   return (fs::path(source).parent_path() / path).lexically_normal().string();
 }
@@ -53,9 +53,9 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
         t.description = v.as<std::string>();
       } else if (key == "testpiece") {
         const auto s = v.as<std::string>();
-        t.testpiece = (s.ends_with(".yaml") || s.ends_with(".yml")) ? Resolve(path, s) : s;
+        t.testpiece = (s.ends_with(".yaml") || s.ends_with(".yml")) ? ResolveTruthPath(path, s) : s;
       } else if (key == "machine") {
-        t.machine = Resolve(path, v.as<std::string>());
+        t.machine = ResolveTruthPath(path, v.as<std::string>());
       } else if (key == "seed") {
         t.sim.seed = v.as<std::uint64_t>();
       } else if (key == "noise_um") {

@@ -22,7 +22,7 @@ namespace {
 
 const std::string kSampleDir = std::string(TPCAL_SOURCE_DIR) + "/samples/";
 
-std::string ReadText(const std::string& path) {
+std::string ReadSampleText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -50,7 +50,7 @@ void CheckOrRegenerate(const std::string& truth_path, const std::string& csv_pat
     ASSERT_TRUE(WriteFileAtomic(csv_path, csv).ok());
     GTEST_SKIP() << "regenerated " << csv_path;
   }
-  EXPECT_TRUE(csv == ReadText(csv_path))
+  EXPECT_TRUE(csv == ReadSampleText(csv_path))
       << csv_path << " is not what " << truth_path
       << " generates; regenerate with TPCAL_REGENERATE_SAMPLES=1 if the simulator changed on purpose";
 }

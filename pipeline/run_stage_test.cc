@@ -38,7 +38,7 @@ const RunResult& SampleRun() {
   return *run;
 }
 
-std::string ReadText(const fs::path& path) {
+std::string ReadRunText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -264,7 +264,7 @@ TEST(RunStage, OutputDirectoryIsCompleteAndReplacedAtomically) {
                            "figures/hole_positions.svg", "figures/circularity.svg", "figures/vectors.svg",
                            "figures/gap.svg"})
     EXPECT_TRUE(fs::is_regular_file(dir / name)) << name;
-  EXPECT_EQ(ReadText(dir / "result.json"), RunResultJson(r));
+  EXPECT_EQ(ReadRunText(dir / "result.json"), RunResultJson(r));
   // Rewriting replaces the previous run as a whole: a stray file of the old run is gone.
   { std::ofstream(dir / "stale.txt") << "old"; }
   ASSERT_TRUE(WriteDirectoryAtomic(dir.string(), files).ok());

@@ -51,7 +51,7 @@ std::vector<NamedConfig> AllPieces() {
   return out;
 }
 
-kinematics::MachineModel AcTable() {
+kinematics::MachineModel BrepAcTable() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
   EXPECT_TRUE(m.ok());
   return *m;
@@ -60,7 +60,7 @@ kinematics::MachineModel AcTable() {
 TEST(Brep, EveryPlanPointLiesOnTheSolidWithAnOutwardNormal) {
   for (const NamedConfig& nc : AllPieces()) {
     SCOPED_TRACE(nc.name);
-    auto piece = MakeTestPiece(nc.config, AcTable());
+    auto piece = MakeTestPiece(nc.config, BrepAcTable());
     ASSERT_TRUE(piece.ok()) << piece.status().ToString();
     for (const ProbingOptions& density : {ProbingOptions::Paper(), ProbingOptions::Dense()}) {
       auto plan = MakeProbingPlan(*piece, density);
@@ -86,7 +86,7 @@ TEST(Brep, EveryPlanPointLiesOnTheSolidWithAnOutwardNormal) {
 }
 
 TEST(Brep, CheckDetectsPointsOffTheSurfaceAndInwardNormals) {
-  auto piece = MakeTestPiece(PieceConfig{}, AcTable());
+  auto piece = MakeTestPiece(PieceConfig{}, BrepAcTable());
   ASSERT_TRUE(piece.ok());
   // A point on S1 with its normal flipped, and a point 0.1 mm outside S1.
   const Eigen::Vector3d on(160, 0, 400.702), n(1, 0, 0);
@@ -101,7 +101,7 @@ TEST(Brep, CheckDetectsPointsOffTheSurfaceAndInwardNormals) {
 TEST(Brep, SolidsHaveTheDesignedSizeAndStepFilesAreWritten) {
   for (const NamedConfig& nc : AllPieces()) {
     SCOPED_TRACE(nc.name);
-    auto piece = MakeTestPiece(nc.config, AcTable());
+    auto piece = MakeTestPiece(nc.config, BrepAcTable());
     ASSERT_TRUE(piece.ok());
     auto s = SummarizeBrep(*piece);
     ASSERT_TRUE(s.ok()) << s.status().ToString();
@@ -116,7 +116,7 @@ TEST(Brep, SolidsHaveTheDesignedSizeAndStepFilesAreWritten) {
     std::remove(path.c_str());
   }
   // Turning piece: bounding box = base flange and top face, volume of the revolved profile.
-  auto piece = MakeTestPiece(PieceConfig{}, AcTable());
+  auto piece = MakeTestPiece(PieceConfig{}, BrepAcTable());
   ASSERT_TRUE(piece.ok());
   auto s = SummarizeBrep(*piece);
   ASSERT_TRUE(s.ok());

@@ -14,7 +14,7 @@
 namespace tpcal::testpieces {
 namespace {
 
-kinematics::MachineModel AcTable() {
+kinematics::MachineModel PlanAcTable() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
   EXPECT_TRUE(m.ok());
   return *m;
@@ -26,7 +26,7 @@ TEST(InspectionPlan, EveryPieceHasAValidPlanOverItsFeatures) {
   for (const PieceParams& p : all) {
     PieceConfig c;
     c.params = p;
-    auto piece = MakeTestPiece(c, AcTable());
+    auto piece = MakeTestPiece(c, PlanAcTable());
     ASSERT_TRUE(piece.ok()) << piece.status().ToString();
     EXPECT_TRUE(gdt::ValidatePlan(piece->inspection).ok());
     // Every probed feature of the plan is a feature of the piece (pitch circles are derived).
@@ -67,7 +67,7 @@ TEST(InspectionPlan, TargetsFramesReadBackFromPlanYaml) {
   for (const PieceParams& p : std::vector<PieceParams>{m2, ConeFrustumParams{}}) {
     PieceConfig c;
     c.params = p;
-    auto piece = MakeTestPiece(c, AcTable());
+    auto piece = MakeTestPiece(c, PlanAcTable());
     ASSERT_TRUE(piece.ok()) << piece.status().ToString();
     const auto& mine = piece->inspection.datum_frame;
     ASSERT_TRUE(mine.has_value());
@@ -91,7 +91,7 @@ TEST(InspectionPlan, TargetsFramesReadBackFromPlanYaml) {
 TEST(InspectionPlan, TurningPlanAgreesWithTheGdtSamplePlan) {
   auto sample = gdt::LoadInspectionPlan(std::string(TPCAL_SOURCE_DIR) + "/samples/plans/turning.yaml");
   ASSERT_TRUE(sample.ok()) << sample.status().ToString();
-  auto piece = MakeTestPiece(PieceConfig{}, AcTable());
+  auto piece = MakeTestPiece(PieceConfig{}, PlanAcTable());
   ASSERT_TRUE(piece.ok());
   const gdt::InspectionPlan& mine = piece->inspection;
 
@@ -145,7 +145,7 @@ TEST(InspectionPlan, TurningPlanAgreesWithTheGdtSamplePlan) {
 TEST(InspectionPlan, TurningPlanExtrasBeyondTheSampleAreOnlyBottomFacesAndDiagnosisItems) {
   auto sample = gdt::LoadInspectionPlan(std::string(TPCAL_SOURCE_DIR) + "/samples/plans/turning.yaml");
   ASSERT_TRUE(sample.ok()) << sample.status().ToString();
-  auto piece = MakeTestPiece(PieceConfig{}, AcTable());
+  auto piece = MakeTestPiece(PieceConfig{}, PlanAcTable());
   ASSERT_TRUE(piece.ok());
   std::set<std::string> extra_features;
   for (const auto& f : piece->inspection.features)
@@ -170,7 +170,7 @@ TEST(InspectionPlan, TurningPlanExtrasBeyondTheSampleAreOnlyBottomFacesAndDiagno
 // the holes, z_R on B_R, r_SR on S_R, the hole centres on the pitch radius. Exact geometry.
 TEST(InspectionPlan, TurningNominalsAreWhereThePlanProbes) {
   constexpr double kTol_mm = 1e-9;  // nominal points, double precision
-  auto piece = MakeTestPiece(PieceConfig{}, AcTable());
+  auto piece = MakeTestPiece(PieceConfig{}, PlanAcTable());
   ASSERT_TRUE(piece.ok());
   auto plan = MakeProbingPlan(*piece);
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();

@@ -20,7 +20,7 @@ kinematics::MachineModel Machine(kinematics::MachineType t) {
   return *m;
 }
 
-TestPiece Make(const PieceParams& params, const kinematics::MachineModel& m) {
+TestPiece MakeIsoPiece(const PieceParams& params, const kinematics::MachineModel& m) {
   PieceConfig c;
   c.params = params;
   auto p = MakeTestPiece(c, m);
@@ -28,7 +28,7 @@ TestPiece Make(const PieceParams& params, const kinematics::MachineModel& m) {
   return *p;
 }
 
-gdt::InspectionResult Evaluate(const TestPiece& piece, const kinematics::MachineModel& m,
+gdt::InspectionResult EvaluateIso(const TestPiece& piece, const kinematics::MachineModel& m,
                                const kinematics::ErrorState& e, bool random_placement) {
   PieceSimOptions o;
   o.random_placement = random_placement;
@@ -40,7 +40,7 @@ gdt::InspectionResult Evaluate(const TestPiece& piece, const kinematics::Machine
   return *r;
 }
 
-double Value(const gdt::InspectionResult& r, const std::string& c, const std::string& v) {
+double IsoValue(const gdt::InspectionResult& r, const std::string& c, const std::string& v) {
   const auto* ch = r.Characteristic(c);
   EXPECT_NE(ch, nullptr) << c;
   return ch ? ch->Value(v).value_or(NAN) : NAN;
@@ -50,19 +50,19 @@ TEST(IsoPieces, M1BothSizesOnThreeAxisAndFiveAxisMachines) {
   for (double size : {160.0, 320.0}) {
     for (auto type : {kinematics::MachineType::kXyz, kinematics::MachineType::kAcTable}) {
       const auto m = Machine(type);
-      const TestPiece piece = Make(ContourPieceParams::ForSize(size), m);
+      const TestPiece piece = MakeIsoPiece(ContourPieceParams::ForSize(size), m);
       EXPECT_EQ(piece.features.size(), 1u + 4u + 4u + 1u + 4u + 1u);
       EXPECT_EQ(piece.operations.size(), 5u);
       auto plan = MakeProbingPlan(piece);
       ASSERT_TRUE(plan.ok()) << plan.status().ToString();
       for (const auto& p : plan->points) EXPECT_LT(kinematics::CutPointMismatch(m, p.cut), 1e-9) << p.feature;
       // Zero errors: nominal GD&T.
-      const auto r = Evaluate(piece, m, kinematics::ErrorState(m), true);
-      EXPECT_NEAR(Value(r, "straightness_SQ_XP", "straightness_um"), 0.0, 1e-6);
-      EXPECT_NEAR(Value(r, "squareness_SQ_XP_SQ_YN", "angle_urad"), 0.0, 1e-4);
-      EXPECT_NEAR(Value(r, "size_BORE", "radius_error_um"), 0.0, 1e-6);
-      EXPECT_NEAR(Value(r, "position_BORE", "dy_um"), 0.0, 1e-6);
-      EXPECT_NEAR(Value(r, "flatness_FLOOR", "flatness_um"), 0.0, 1e-6);
+      const auto r = EvaluateIso(piece, m, kinematics::ErrorState(m), true);
+      EXPECT_NEAR(IsoValue(r, "straightness_SQ_XP", "straightness_um"), 0.0, 1e-6);
+      EXPECT_NEAR(IsoValue(r, "squareness_SQ_XP_SQ_YN", "angle_urad"), 0.0, 1e-4);
+      EXPECT_NEAR(IsoValue(r, "size_BORE", "radius_error_um"), 0.0, 1e-6);
+      EXPECT_NEAR(IsoValue(r, "position_BORE", "dy_um"), 0.0, 1e-6);
+      EXPECT_NEAR(IsoValue(r, "flatness_FLOOR", "flatness_um"), 0.0, 1e-6);
     }
   }
 }
@@ -72,36 +72,36 @@ TEST(IsoPieces, M1SquarenessOfXAndYShowsOnTheSquare) {
   // back: the angle between SQ_XP (+Y) and SQ_YN (+X) exceeds 90 deg by e; gdt's squareness is
   // asin(u . v) = -e (gdt/orientation.h).
   const auto m = Machine(kinematics::MachineType::kXyz);
-  const TestPiece piece = Make(ContourPieceParams::ForSize(320.0), m);
+  const TestPiece piece = MakeIsoPiece(ContourPieceParams::ForSize(320.0), m);
   kinematics::ErrorState e(m);
   ASSERT_TRUE(e.SetParameter(m, "E_C(0X)Y", 30e-6).ok());
-  const auto r = Evaluate(piece, m, e, true);
-  EXPECT_NEAR(Value(r, "squareness_SQ_XP_SQ_YN", "angle_urad"), -30.0, 0.3);
+  const auto r = EvaluateIso(piece, m, e, true);
+  EXPECT_NEAR(IsoValue(r, "squareness_SQ_XP_SQ_YN", "angle_urad"), -30.0, 0.3);
   // The diamond's sides run at +-45 deg: a shear x' = x - e y turns both by e / 2, so their
   // angle is unchanged to first order (the diamond sees X/Y scale differences instead).
-  EXPECT_NEAR(Value(r, "squareness_DI_2_DI_1", "angle_urad"), 0.0, 0.05);
+  EXPECT_NEAR(IsoValue(r, "squareness_DI_2_DI_1", "angle_urad"), 0.0, 0.05);
   // Straight sides stay straight; the circle's tool-centre path (radius 80 + 16 mm) becomes an
   // ellipse with axes at 45 deg: circularity = path radius x e = 96 mm x 30 urad = 2.88 um.
-  EXPECT_NEAR(Value(r, "straightness_SQ_XP", "straightness_um"), 0.0, 1e-4);
-  EXPECT_NEAR(Value(r, "circularity_CIRCLE", "circularity_um"), 96.0 * 30e-3, 0.01 * 2.88);
+  EXPECT_NEAR(IsoValue(r, "straightness_SQ_XP", "straightness_um"), 0.0, 1e-4);
+  EXPECT_NEAR(IsoValue(r, "circularity_CIRCLE", "circularity_um"), 96.0 * 30e-3, 0.01 * 2.88);
 }
 
 TEST(IsoPieces, M2FlatnessFollowsTheStraightnessOfX) {
   const auto m = Machine(kinematics::MachineType::kXyz);
   FaceMillingPieceParams params;
-  const TestPiece piece = Make(params, m);
+  const TestPiece piece = MakeIsoPiece(params, m);
   ASSERT_EQ(piece.features.size(), 2u);
-  const auto zero = Evaluate(piece, m, kinematics::ErrorState(m), false);
-  EXPECT_NEAR(Value(zero, "flatness_FACE_P1", "flatness_um"), 0.0, 1e-6);
+  const auto zero = EvaluateIso(piece, m, kinematics::ErrorState(m), false);
+  EXPECT_NEAR(IsoValue(zero, "flatness_FACE_P1", "flatness_um"), 0.0, 1e-6);
   // E_ZX(x) = c x^2 (um, x in mm): the face follows the tool, flatness = c (x_max^2 - x_min^2)
   // over the probed x range [-L/2 + margin, L/2 - margin] with x = 0 inside.
   auto e = kinematics::ParseErrorState(
       "effects:\n  - linear_error_motion: {symbol: E_ZX, coefficients_um_per_mm_pow: [0, 0, 2.0e-4]}\n", "<t>", m);
   ASSERT_TRUE(e.ok()) << e.status().ToString();
-  const auto r = Evaluate(piece, m, *e, true);
+  const auto r = EvaluateIso(piece, m, *e, true);
   const double x_max = 0.5 * params.length_mm - ProbingOptions{}.edge_margin_mm;
-  EXPECT_NEAR(Value(r, "flatness_FACE_P1", "flatness_um"), 2.0e-4 * x_max * x_max, 1e-3);
-  EXPECT_NEAR(Value(r, "flatness_FACE_P2", "flatness_um"), 2.0e-4 * x_max * x_max, 1e-3);
+  EXPECT_NEAR(IsoValue(r, "flatness_FACE_P1", "flatness_um"), 2.0e-4 * x_max * x_max, 1e-3);
+  EXPECT_NEAR(IsoValue(r, "flatness_FACE_P2", "flatness_um"), 2.0e-4 * x_max * x_max, 1e-3);
   // The overlap strip belongs to the last pass: pass 2 regions start where pass 2 begins.
   auto c = CutPointAt(piece, "FACE_P2", Eigen::Vector3d(0, 0, params.height_mm));
   ASSERT_TRUE(c.ok()) << c.status().ToString();
@@ -110,7 +110,7 @@ TEST(IsoPieces, M2FlatnessFollowsTheStraightnessOfX) {
 
 TEST(IsoPieces, ConeFrustumIsCutBySimultaneousFiveAxisMotion) {
   const auto m = Machine(kinematics::MachineType::kAcTable);
-  const TestPiece piece = Make(ConeFrustumParams{}, m);
+  const TestPiece piece = MakeIsoPiece(ConeFrustumParams{}, m);
   ASSERT_EQ(piece.features.size(), 3u);
   auto plan = MakeProbingPlan(piece);
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
@@ -137,10 +137,10 @@ TEST(IsoPieces, ConeFrustumIsCutBySimultaneousFiveAxisMotion) {
     }
   }
   EXPECT_EQ(five_axis, ConeFrustumParams{}.path_steps);
-  const auto r = Evaluate(piece, m, kinematics::ErrorState(m), true);
+  const auto r = EvaluateIso(piece, m, kinematics::ErrorState(m), true);
   for (int k = 1; k <= 3; ++k) {
-    EXPECT_NEAR(Value(r, "circularity_CONE_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
-    EXPECT_NEAR(Value(r, "size_CONE_" + std::to_string(k), "radius_error_um"), 0.0, 1e-6);
+    EXPECT_NEAR(IsoValue(r, "circularity_CONE_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
+    EXPECT_NEAR(IsoValue(r, "size_CONE_" + std::to_string(k), "radius_error_um"), 0.0, 1e-6);
   }
 }
 
@@ -152,7 +152,7 @@ TEST(IsoPieces, SecondConeIsCutByItsOwnPass) {
   ConeFrustumParams p;
   p.base_size_mm = 380;
   p.second_cone_offset_mm = 130;
-  const TestPiece piece = Make(p, m);
+  const TestPiece piece = MakeIsoPiece(p, m);
   ASSERT_EQ(piece.features.size(), 6u);
   ASSERT_EQ(piece.operations.size(), 2u);
   for (int k = 1; k <= 3; ++k) {
@@ -175,8 +175,8 @@ TEST(IsoPieces, SecondConeIsCutByItsOwnPass) {
   }
   // The offset cone swings round the C axis: X spans about twice its offset.
   EXPECT_GT(x_max - x_min, 200.0);
-  const auto r = Evaluate(piece, m, kinematics::ErrorState(m), true);
-  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(Value(r, "circularity_CONE2_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
+  const auto r = EvaluateIso(piece, m, kinematics::ErrorState(m), true);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(IsoValue(r, "circularity_CONE2_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
   ConeFrustumParams overlap = p;
   overlap.second_cone_offset_mm = 100;  // < 80 + 2 x 16
   EXPECT_FALSE(overlap.Validate().ok());
@@ -193,7 +193,7 @@ TEST(IsoPieces, ThirdConeIsCutByItsOwnPass) {
   p.base_size_mm = 380;
   p.second_cone_offset_mm = 130;
   p.third_cone_offset_mm = 130;
-  const TestPiece piece = Make(p, m);
+  const TestPiece piece = MakeIsoPiece(p, m);
   ASSERT_EQ(piece.features.size(), 9u);
   ASSERT_EQ(piece.operations.size(), 3u);
   for (int k = 1; k <= 3; ++k) {
@@ -215,8 +215,8 @@ TEST(IsoPieces, ThirdConeIsCutByItsOwnPass) {
     }
   }
   EXPECT_GT(y_max - y_min, 200.0);  // it swings round the C axis too
-  const auto r = Evaluate(piece, m, kinematics::ErrorState(m), true);
-  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(Value(r, "circularity_CONE3_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
+  const auto r = EvaluateIso(piece, m, kinematics::ErrorState(m), true);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(IsoValue(r, "circularity_CONE3_" + std::to_string(k), "circularity_um"), 0.0, 1e-6);
   ConeFrustumParams alone = p;
   alone.second_cone_offset_mm = 0;
   EXPECT_FALSE(alone.Validate().ok());
@@ -248,7 +248,7 @@ TEST(IsoPieces, SweepDirectionsAreTangentForEveryPiece) {
   pieces.push_back({three_cones, kinematics::MachineType::kAcTable, 5e-6});
   for (const P& pp : pieces) {
     const auto m = Machine(pp.type);
-    const TestPiece piece = Make(pp.params, m);
+    const TestPiece piece = MakeIsoPiece(pp.params, m);
     SCOPED_TRACE(piece.name);
     auto plan = MakeProbingPlan(piece);
     ASSERT_TRUE(plan.ok());

@@ -16,7 +16,7 @@ double WrapTwoPi(double a) {
   return a;
 }
 
-double Cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+double Cross2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // Signed distance of q inside a convex CCW polygon (positive inside): min over edges.
 double InsideDistance(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& q) {
@@ -26,7 +26,7 @@ double InsideDistance(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vec
     const Eigen::Vector2d& a = poly[i];
     const Eigen::Vector2d& b = poly[(i + 1) % n];
     const Eigen::Vector2d e = (b - a).normalized();
-    d = std::min(d, Cross2(e, q - a));
+    d = std::min(d, Cross2d(e, q - a));
   }
   return d;
 }
@@ -37,7 +37,7 @@ Status CheckConvexCcw(const std::vector<Eigen::Vector2d>& poly, const std::strin
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d e1 = poly[(i + 1) % n] - poly[i];
     const Eigen::Vector2d e2 = poly[(i + 2) % n] - poly[(i + 1) % n];
-    if (Cross2(e1, e2) <= 0) {
+    if (Cross2d(e1, e2) <= 0) {
       return {StatusCode::kInvalidArgument, what + ": polygon is not convex and counter-clockwise at vertex " +
                                                 std::to_string((i + 1) % n)};
     }

@@ -15,7 +15,7 @@
 namespace tpcal::testpieces {
 namespace {
 
-constexpr const char* kSchema = "tpcal.testpiece/1";
+constexpr const char* kPieceSchema = "tpcal.testpiece/1";
 
 // A parameter bound to a member of a parameter struct: dotted YAML path and member pointer.
 template <class P>
@@ -301,7 +301,7 @@ class Parser {
     }
     if (by_key.count("schema")) {
       const YAML::Node& v = by_key["schema"].second;
-      if (!v.IsScalar() || v.Scalar() != kSchema) return Error(v, std::string("schema: expected ") + kSchema);
+      if (!v.IsScalar() || v.Scalar() != kPieceSchema) return Error(v, std::string("schema: expected ") + kPieceSchema);
     }
     std::string piece = "turning";
     if (by_key.count("piece")) {
@@ -432,7 +432,7 @@ Result<PieceConfig> LoadPieceConfig(const std::string& path) {
 std::string FormatPieceConfig(const PieceConfig& config) {
   std::ostringstream os;
   os << "# tpcal test-piece configuration (testpieces/piece_config.h, testpieces/README.md)\n";
-  os << "schema: " << kSchema << "\n";
+  os << "schema: " << kPieceSchema << "\n";
   const PieceKind kind = KindOf(config.params);
   os << "piece: " << PieceKindName(kind) << "\n";
   os << PieceKindName(kind) << ":\n";

@@ -20,7 +20,7 @@ struct Fixture {
   ProbingPlan plan;
 };
 
-Fixture Make() {
+Fixture MakeProcessPiece() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
   EXPECT_TRUE(m.ok());
   auto piece = MakeTestPiece(PieceConfig{}, *m);
@@ -40,7 +40,7 @@ const PlanPoint* FindPoint(const ProbingPlan& plan, const std::string& feature, 
 }
 
 TEST(ProcessEffects, NoEffectsNoDeviation) {
-  const Fixture f = Make();
+  const Fixture f = MakeProcessPiece();
   for (const auto& pp : f.plan.points) {
     auto d = ProcessDeviationMm(f.piece, f.machine, pp, ProcessEffects{});
     ASSERT_TRUE(d.ok());
@@ -51,7 +51,7 @@ TEST(ProcessEffects, NoEffectsNoDeviation) {
 // A turning tool pushed away from the part leaves material: every turned face gets s > 0 with a
 // positive compliance; the reamer's radial forces balance (holes unchanged).
 TEST(ProcessEffects, DeflectionLeavesMaterialOnTurnedFacesNotInHoles) {
-  const Fixture f = Make();
+  const Fixture f = MakeProcessPiece();
   ProcessEffects e;
   e.deflection = ToolDeflectionModel{};
   for (const auto& pp : f.plan.points) {
@@ -83,7 +83,7 @@ TEST(ProcessEffects, DeflectionLeavesMaterialOnTurnedFacesNotInHoles) {
 // axis (-X): s = -h. It decays with the travelled angle, and the points before the first
 // crossing of the pass see nothing.
 TEST(ProcessEffects, ServoGlitchAtQuadrantCrossingOfTheGroove) {
-  const Fixture f = Make();
+  const Fixture f = MakeProcessPiece();
   ProcessEffects e;
   ServoReversalModel m;
   m.spike_x_um = 2.0;
@@ -108,7 +108,7 @@ TEST(ProcessEffects, ServoGlitchAtQuadrantCrossingOfTheGroove) {
 }
 
 TEST(ProcessEffects, SimulatePieceAddsProcessDeviationAlongTheNormal) {
-  const Fixture f = Make();
+  const Fixture f = MakeProcessPiece();
   PieceSimOptions o;
   o.process.deflection = ToolDeflectionModel{};
   const kinematics::ErrorState zero(f.machine);

@@ -11,7 +11,7 @@ namespace {
 
 namespace y = kinematics::yaml_internal;
 
-constexpr const char* kSchema = "tpcal.process/1";
+constexpr const char* kProcessSchema = "tpcal.process/1";
 
 // Reads the keys of one section into doubles (and the compliance vector) of the model.
 Status ReadNumbers(const std::string& source, const YAML::Node& node, const std::string& section,
@@ -60,7 +60,7 @@ Result<ProcessEffects> ParseProcessEffects(std::string_view yaml_text, const std
   if (const y::MapEntry* e = y::Find(*entries, "schema")) {
     auto s = y::String(source, e->value, "schema");
     TPCAL_RETURN_IF_ERROR(s);
-    if (*s != kSchema) return y::Error(source, e->value, std::string("schema: expected ") + kSchema + ", got '" + *s + "'");
+    if (*s != kProcessSchema) return y::Error(source, e->value, std::string("schema: expected ") + kProcessSchema + ", got '" + *s + "'");
   }
   if (const y::MapEntry* e = y::Find(*entries, "tool_deflection")) {
     ToolDeflectionModel d;

@@ -21,15 +21,15 @@ namespace {
 constexpr double kRelTol = 0.01;     // 1 % of the effect (the brief's first-order criterion)
 constexpr double kAbsTol_um = 0.002; // zero-to-first-order effects: second order is < 1e-4 um
 
-kinematics::MachineModel AcTable() {
+kinematics::MachineModel EquationsAcTable() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
   EXPECT_TRUE(m.ok());
   return *m;
 }
 
-const TestPiece& Piece() {
+const TestPiece& EquationsPiece() {
   static const TestPiece piece = [] {
-    auto p = MakeTestPiece(PieceConfig{}, AcTable());
+    auto p = MakeTestPiece(PieceConfig{}, EquationsAcTable());
     EXPECT_TRUE(p.ok()) << p.status().ToString();
     return *p;
   }();
@@ -41,7 +41,7 @@ struct Heights {
   double z_h, z_sr_cut, z1, z2, z3, z4, z5, z6, rho_b3, rho_b6;
 };
 Heights H() {
-  const auto& p = std::get<TurningPieceParams>(Piece().config.params);
+  const auto& p = std::get<TurningPieceParams>(EquationsPiece().config.params);
   Heights h;
   h.z_h = p.hole_probe_z_mm();
   h.z_sr_cut = p.groove_bottom_z_mm + p.groove_wall_lift_mm;  // Z command of the S_R wall pass
@@ -56,13 +56,13 @@ Heights H() {
   return h;
 }
 
-gdt::InspectionResult Evaluate(const kinematics::ErrorState& errors, bool random_placement = false) {
+gdt::InspectionResult EvaluateEquations(const kinematics::ErrorState& errors, bool random_placement = false) {
   PieceSimOptions o;
   o.random_placement = random_placement;
   o.seed = 7;
-  auto sim = SimulatePiece(Piece(), AcTable(), errors, o);
+  auto sim = SimulatePiece(EquationsPiece(), EquationsAcTable(), errors, o);
   EXPECT_TRUE(sim.ok()) << sim.status().ToString();
-  auto result = gdt::EvaluatePlan(Piece().inspection, sim->points);
+  auto result = gdt::EvaluatePlan(EquationsPiece().inspection, sim->points);
   EXPECT_TRUE(result.ok()) << result.status().ToString();
   return *result;
 }
@@ -188,7 +188,7 @@ std::vector<Case> Cases() {
   return cases;
 }
 
-double Value(const gdt::InspectionResult& r, const std::string& characteristic, const std::string& value) {
+double ItemValue(const gdt::InspectionResult& r, const std::string& characteristic, const std::string& value) {
   const gdt::CharacteristicResult* c = r.Characteristic(characteristic);
   EXPECT_NE(c, nullptr) << characteristic;
   if (!c) return NAN;
@@ -198,25 +198,25 @@ double Value(const gdt::InspectionResult& r, const std::string& characteristic, 
 }
 
 TEST(Seed002Equations, ZeroErrorsGiveZeroDeviations) {
-  const kinematics::MachineModel m = AcTable();
+  const kinematics::MachineModel m = EquationsAcTable();
   const kinematics::ErrorState none(m);
   for (const ProbingOptions& density : {ProbingOptions::Paper(), ProbingOptions::Dense()}) {
     PieceSimOptions o;
     o.density = density;
-    auto sim = SimulatePiece(Piece(), m, none, o);
+    auto sim = SimulatePiece(EquationsPiece(), m, none, o);
     ASSERT_TRUE(sim.ok()) << sim.status().ToString();
     for (double s : sim->truth.deviation_mm) EXPECT_LT(std::abs(s), 1e-9);
-    const Rigid3 datum_from_part = Piece().part_from_datum.inverse();
+    const Rigid3 datum_from_part = EquationsPiece().part_from_datum.inverse();
     for (std::size_t i = 0; i < sim->points.size(); ++i) {
       EXPECT_LT((sim->points.xyz_mm[i] - datum_from_part * sim->truth.plan.points[i].point_part_mm).norm(), 1e-9);
     }
   }
-  const gdt::InspectionResult r = Evaluate(none);
-  for (const auto& [name, value] : kChecked) EXPECT_NEAR(Value(r, name, value), 0.0, 1e-6) << name << "/" << value;
+  const gdt::InspectionResult r = EvaluateEquations(none);
+  for (const auto& [name, value] : kChecked) EXPECT_NEAR(ItemValue(r, name, value), 0.0, 1e-6) << name << "/" << value;
 }
 
 TEST(Seed002Equations, EachTable2ParameterReproducesItsEquations) {
-  const kinematics::MachineModel m = AcTable();
+  const kinematics::MachineModel m = EquationsAcTable();
   for (const Case& c : Cases()) {
     SCOPED_TRACE(c.parameter);
     kinematics::ErrorState errors(m);
@@ -224,12 +224,12 @@ TEST(Seed002Equations, EachTable2ParameterReproducesItsEquations) {
     ASSERT_TRUE(info.ok()) << info.status().ToString();
     const double internal = info->quantity == kinematics::Quantity::kLength ? c.value * 1e-3 : c.value * 1e-6;
     ASSERT_TRUE(errors.SetParameter(m, c.parameter, internal).ok());
-    const gdt::InspectionResult r = Evaluate(errors);
+    const gdt::InspectionResult r = EvaluateEquations(errors);
     for (const auto& [name, value] : kChecked) {
       const std::string key = name + "/" + value;
       const auto it = c.expected.find(key);
       const double expected = it == c.expected.end() ? 0.0 : it->second;
-      const double got = Value(r, name, value);
+      const double got = ItemValue(r, name, value);
       EXPECT_NEAR(got, expected, std::max(kRelTol * std::abs(expected), kAbsTol_um))
           << c.parameter << " = " << c.value << ": " << key;
     }
@@ -237,15 +237,15 @@ TEST(Seed002Equations, EachTable2ParameterReproducesItsEquations) {
 }
 
 TEST(Seed002Equations, RandomCmmPlacementDoesNotChangeTheResult) {
-  const kinematics::MachineModel m = AcTable();
+  const kinematics::MachineModel m = EquationsAcTable();
   kinematics::ErrorState errors(m);
   ASSERT_TRUE(errors.SetParameter(m, "beta_CR(0)", -25e-6).ok());
   ASSERT_TRUE(errors.SetParameter(m, "dz_AR(-90)", 0.030).ok());
-  const gdt::InspectionResult a = Evaluate(errors, false);
-  const gdt::InspectionResult b = Evaluate(errors, true);
+  const gdt::InspectionResult a = EvaluateEquations(errors, false);
+  const gdt::InspectionResult b = EvaluateEquations(errors, true);
   for (const auto& [name, value] : kChecked) {
     // Placement changes only rounding: a 300 mm translation and a rotation cost ~1e-10 mm.
-    EXPECT_NEAR(Value(a, name, value), Value(b, name, value), 1e-5) << name << "/" << value;
+    EXPECT_NEAR(ItemValue(a, name, value), ItemValue(b, name, value), 1e-5) << name << "/" << value;
   }
 }
 
@@ -258,7 +258,7 @@ struct ProfileCase {
 };
 
 TEST(Seed002Equations, ErrorMotionsAppearInTheCircularityProfiles) {
-  const kinematics::MachineModel m = AcTable();
+  const kinematics::MachineModel m = EquationsAcTable();
   const Heights h = H();
   const double c = 2.0, t = 10.0;  // um, urad
   const std::vector<ProfileCase> cases = {
@@ -284,10 +284,10 @@ TEST(Seed002Equations, ErrorMotionsAppearInTheCircularityProfiles) {
     SCOPED_TRACE(pc.yaml);
     auto errors = kinematics::ParseErrorState("effects:\n" + pc.yaml, "<test>", m);
     ASSERT_TRUE(errors.ok()) << errors.status().ToString();
-    const gdt::InspectionResult r = Evaluate(*errors);
+    const gdt::InspectionResult r = EvaluateEquations(*errors);
     for (const auto& [feature, amp] : pc.amp_um) {
       std::string name;
-      for (const auto& ch : Piece().inspection.characteristics) {
+      for (const auto& ch : EquationsPiece().inspection.characteristics) {
         if (ch.type == gdt::CharacteristicType::kCircularity && ch.feature == feature) name = ch.name;
       }
       const gdt::CharacteristicResult* res = r.Characteristic(name);

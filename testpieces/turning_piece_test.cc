@@ -16,16 +16,16 @@ namespace {
 
 constexpr double kExact_mm = 1e-9;  // double-precision planning identities
 
-kinematics::MachineModel AcTable() {
+kinematics::MachineModel TurningAcTable() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
   EXPECT_TRUE(m.ok());
   return *m;
 }
 
-TestPiece Piece(const TurningPieceParams& p = {}) {
+TestPiece TurningPieceUnderTest(const TurningPieceParams& p = {}) {
   PieceConfig config;
   config.params = p;
-  auto piece = MakeTestPiece(config, AcTable());
+  auto piece = MakeTestPiece(config, TurningAcTable());
   EXPECT_TRUE(piece.ok()) << piece.status().ToString();
   return *piece;
 }
@@ -39,7 +39,7 @@ const PlanPoint& First(const ProbingPlan& plan, const std::string& feature) {
 }
 
 TEST(TurningPiece, FeaturesAndOperationsFollowThePaper) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   ASSERT_EQ(piece.features.size(), 2u + 16u + 12u);
   EXPECT_EQ(piece.features[0].name, "S_R");
   EXPECT_EQ(piece.features[1].name, "B_R");
@@ -63,7 +63,7 @@ TEST(TurningPiece, FeaturesAndOperationsFollowThePaper) {
 }
 
 TEST(TurningPiece, MachineStatesOfSection21) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   auto plan = MakeProbingPlan(piece);
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   const double rn = 0.8;
@@ -115,9 +115,9 @@ TEST(TurningPiece, MachineStatesOfSection21) {
 }
 
 TEST(TurningPiece, EveryPlanPointIsItsOwnCutPoint) {
-  const kinematics::MachineModel m = AcTable();
+  const kinematics::MachineModel m = TurningAcTable();
   for (const ProbingOptions& density : {ProbingOptions::Paper(), ProbingOptions::Dense()}) {
-    const TestPiece piece = Piece();
+    const TestPiece piece = TurningPieceUnderTest();
     auto plan = MakeProbingPlan(piece, density);
     ASSERT_TRUE(plan.ok()) << plan.status().ToString();
     for (const PlanPoint& p : plan->points) {
@@ -130,7 +130,7 @@ TEST(TurningPiece, EveryPlanPointIsItsOwnCutPoint) {
 }
 
 TEST(TurningPiece, CountsOfThePaperPlanAndTheDenseOne) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   auto paper = MakeProbingPlan(piece);
   ASSERT_TRUE(paper.ok());
   std::map<std::string, int> count;
@@ -148,7 +148,7 @@ TEST(TurningPiece, CountsOfThePaperPlanAndTheDenseOne) {
 }
 
 TEST(TurningPiece, AssociationOfMeasuredPointsNearAFeature) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   auto plan = MakeProbingPlan(piece);
   ASSERT_TRUE(plan.ok());
   for (const PlanPoint& p : plan->points) {
@@ -167,7 +167,7 @@ TEST(TurningPiece, AssociationOfMeasuredPointsNearAFeature) {
 }
 
 TEST(TurningPiece, AzimuthMapsToCAndHeightToTime) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   // S4 at A = 0, tool at +X: a point at azimuth phi was cut at C = phi.
   for (double phi_deg : {10.0, 100.0, 250.0}) {
     const double phi = DegToRad(phi_deg);
@@ -198,7 +198,7 @@ TEST(TurningPiece, AzimuthMapsToCAndHeightToTime) {
 }
 
 TEST(TurningPiece, PointsAwayFromAFeatureAreRejected) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   // Below the shoulder of S1 (not reached by the S1 feed).
   EXPECT_FALSE(CutPointAt(piece, "S1", Eigen::Vector3d(160, 0, 380.0)).ok());
   // On the axis of a turned face.
@@ -212,7 +212,7 @@ TEST(TurningPiece, PointsAwayFromAFeatureAreRejected) {
 TEST(TurningPiece, InnerWallEnrichmentAddsAClockwiseReferenceCircle) {
   TurningPieceParams p;
   p.groove_inner_wall_pass = true;
-  const TestPiece piece = Piece(p);
+  const TestPiece piece = TurningPieceUnderTest(p);
   ASSERT_NE(piece.Feature("S_RI"), nullptr);
   ASSERT_EQ(piece.operations[0].passes.size(), 3u);
   const auto* cut = std::get_if<PathMillCut>(&piece.Cut("S_RI")->model);
@@ -263,7 +263,7 @@ TEST(TurningPiece, UnmachinableGeometryIsRejected) {
 }
 
 TEST(TurningPiece, PlanRowsCarryTheContractColumns) {
-  const TestPiece piece = Piece();
+  const TestPiece piece = TurningPieceUnderTest();
   auto plan = MakeProbingPlan(piece);
   ASSERT_TRUE(plan.ok());
   const auto cols = PlanExtraColumns(piece.machine);

@@ -27,13 +27,17 @@ struct Command {
 
 using Registrar = Command (*)(CLI::App& app);
 
-// The command table. Each command's .cc adds itself from a namespace-scope initialiser:
-//   [[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(10, RegisterFit);
-// `order` sorts the subcommands in --help (fit 10, plan 20, simulate 30, gcode 40,
-// identify 50, diagnose 60, run 70). Returns true.
-bool AddCommand(int order, Registrar registrar);
-// The registered commands, sorted by order.
-std::vector<Registrar> RegisteredCommands();
+// Each command's options on `app` (its <name>_command.cc).
+Command RegisterFit(CLI::App& app);
+Command RegisterPlan(CLI::App& app);
+Command RegisterSimulate(CLI::App& app);
+Command RegisterGcode(CLI::App& app);
+Command RegisterIdentify(CLI::App& app);
+Command RegisterDiagnose(CLI::App& app);
+Command RegisterRun(CLI::App& app);
+
+// The command table, in --help order: fit, plan, simulate, gcode, identify, diagnose, run.
+const std::vector<Registrar>& CommandTable();
 
 // Prints "file:line: message" to stderr and returns kExitBadInput.
 int ReportError(const Status& status);

@@ -227,7 +227,3 @@ Command RegisterDiagnose(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(60, tpcal::cli::RegisterDiagnose);
-}

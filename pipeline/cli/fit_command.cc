@@ -177,7 +177,3 @@ Command RegisterFit(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(10, tpcal::cli::RegisterFit);
-}

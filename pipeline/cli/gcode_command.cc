@@ -255,7 +255,3 @@ Command RegisterGcode(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(40, tpcal::cli::RegisterGcode);
-}

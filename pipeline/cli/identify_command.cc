@@ -157,8 +157,4 @@ Command RegisterIdentify(CLI::App& app) {
   return {sub, [args] { return RunIdentify(*args); }};
 }
 
-namespace {
-[[maybe_unused]] const bool kRegistered = AddCommand(50, RegisterIdentify);
-}
-
 }  // namespace tpcal::cli

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
 
   std::vector<Command> commands;
-  for (Registrar reg : RegisteredCommands()) {
+  for (Registrar reg : CommandTable()) {
     if (Command c = reg(app); c.app != nullptr) commands.push_back(c);
   }
 

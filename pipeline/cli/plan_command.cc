@@ -219,7 +219,3 @@ Command RegisterPlan(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(20, tpcal::cli::RegisterPlan);
-}

@@ -194,7 +194,3 @@ Command RegisterRun(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(70, tpcal::cli::RegisterRun);
-}

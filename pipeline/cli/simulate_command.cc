@@ -222,7 +222,3 @@ Command RegisterSimulate(CLI::App& app) {
 }
 
 }  // namespace tpcal::cli
-
-namespace {
-[[maybe_unused]] const bool kRegistered = tpcal::cli::AddCommand(30, tpcal::cli::RegisterSimulate);
-}

@@ -14,7 +14,7 @@
 namespace tpcal::pipeline {
 namespace {
 
-Status IoError(const std::string& path, const char* what, int err) {
+Status FileIoError(const std::string& path, const char* what, int err) {
   return Status(StatusCode::kIoError, fmt::format("{}: {}", what, std::strerror(err)), path);
 }
 
@@ -22,7 +22,7 @@ Status IoError(const std::string& path, const char* what, int err) {
 
 Result<FileStamp> StatFile(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return IoError(path, "cannot open", errno);
+  if (::stat(path.c_str(), &st) != 0) return FileIoError(path, "cannot open", errno);
   if (!S_ISREG(st.st_mode))
     return Status(StatusCode::kIoError, "not a regular file", path);
   FileStamp stamp;
@@ -33,10 +33,10 @@ Result<FileStamp> StatFile(const std::string& path) {
 
 Result<FileBytes> ReadFileBytes(const std::string& path) {
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return IoError(path, "cannot open", errno);
+  if (fd < 0) return FileIoError(path, "cannot open", errno);
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
-    Status s = IoError(path, "cannot stat", errno);
+    Status s = FileIoError(path, "cannot stat", errno);
     ::close(fd);
     return s;
   }
@@ -56,7 +56,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
       ssize_t n = ::read(fd, &probe, 1);
       if (n < 0 && errno == EINTR) continue;
       if (n < 0) {
-        Status s = IoError(path, "read failed", errno);
+        Status s = FileIoError(path, "read failed", errno);
         ::close(fd);
         return s;
       }
@@ -72,7 +72,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
     ssize_t n = ::read(fd, out.data.get() + out.size, capacity - out.size);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
-      Status s = IoError(path, "read failed", errno);
+      Status s = FileIoError(path, "read failed", errno);
       ::close(fd);
       return s;
     }

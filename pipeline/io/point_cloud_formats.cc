@@ -24,8 +24,8 @@
 namespace tpcal::pipeline {
 namespace {
 
-constexpr double kZeroNormalLength = 1e-12;  // as in the CSV reader
-constexpr double kAlreadyUnit = 1e-14;
+constexpr double kCloudZeroNormalLength = 1e-12;  // as in the CSV reader
+constexpr double kCloudAlreadyUnit = 1e-14;
 
 // PCL prints warnings and errors to the console; libraries here never print. Not thread-safe
 // (PCL's verbosity is a global), like PCL's own I/O.
@@ -136,13 +136,13 @@ Result<PointFile> FromCloud(const pcl::PCLPointCloud2& cloud, const std::string&
           if (!ReadScalar(pt + fn[k]->offset, fn[k]->datatype, &nrm[k]))
             return error(fmt::format("field '{}' has an unsupported data type", fn[k]->name));
         const double len = nrm.norm();
-        if (!std::isfinite(len) || len < kZeroNormalLength)
+        if (!std::isfinite(len) || len < kCloudZeroNormalLength)
           return error(fmt::format("point {} (0-based) has a normal of zero length or NaN; "
                                    "expected a unit vector", index));
         if (std::abs(len - 1.0) > options.normal_tolerance)
           return error(fmt::format("point {} (0-based) has a normal of length {:.6g}; expected a "
                                    "unit vector (within {:g})", index, len, options.normal_tolerance));
-        if (std::abs(len - 1.0) > kAlreadyUnit) nrm /= len;
+        if (std::abs(len - 1.0) > kCloudAlreadyUnit) nrm /= len;
         ps.normal.push_back(nrm);
       }
       ps.xyz_mm.emplace_back(v[0] * scale, v[1] * scale, v[2] * scale);

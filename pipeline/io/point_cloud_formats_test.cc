@@ -15,14 +15,14 @@ namespace {
 
 // Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
 template <typename T>
-bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+bool CloudBitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 
 namespace fs = std::filesystem;
 
-std::string DataPath(const std::string& name) {
+std::string CloudDataPath(const std::string& name) {
   return std::string(TPCAL_SOURCE_DIR) + "/tests/data/points/" + name;
 }
 
@@ -60,9 +60,9 @@ class PointCloudFormatsTest : public ::testing::Test {
   fs::path dir_;
 };
 
-void ExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+void CloudExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_TRUE(BitsEqual(a, b));
+  EXPECT_TRUE(CloudBitsEqual(a, b));
 }
 
 TEST_F(PointCloudFormatsTest, PlyAndPcdRoundTripThroughPclWritersAtDoublePrecision) {
@@ -84,8 +84,8 @@ TEST_F(PointCloudFormatsTest, PlyAndPcdRoundTripThroughPclWritersAtDoublePrecisi
     ASSERT_TRUE(back.ok()) << back.status().ToString();
     EXPECT_EQ(back->info.format, c.ply ? PointFormat::kPly : PointFormat::kPcd);
     const PointSet& r = back->points;
-    ExpectSameBits(r.xyz_mm, ps.xyz_mm);
-    ExpectSameBits(r.normal, ps.normal);
+    CloudExpectSameBits(r.xyz_mm, ps.xyz_mm);
+    CloudExpectSameBits(r.normal, ps.normal);
     // Labels and text attributes are not representable in PLY/PCD (documented).
     EXPECT_FALSE(r.has_labels());
     ASSERT_EQ(r.attributes.size(), 1u);
@@ -97,7 +97,7 @@ TEST_F(PointCloudFormatsTest, PlyAndPcdRoundTripThroughPclWritersAtDoublePrecisi
 }
 
 TEST_F(PointCloudFormatsTest, PlyWithoutNormals) {
-  Result<PointFile> r = ReadPointPly(DataPath("scan_float.ply"));
+  Result<PointFile> r = ReadPointPly(CloudDataPath("scan_float.ply"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   ASSERT_EQ(ps.size(), 3u);
@@ -108,7 +108,7 @@ TEST_F(PointCloudFormatsTest, PlyWithoutNormals) {
 }
 
 TEST_F(PointCloudFormatsTest, PlyDoublesAndNxNyNz) {
-  Result<PointFile> r = ReadPointPly(DataPath("scan_normals.ply"));
+  Result<PointFile> r = ReadPointPly(CloudDataPath("scan_normals.ply"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   ASSERT_EQ(ps.size(), 2u);
@@ -120,15 +120,15 @@ TEST_F(PointCloudFormatsTest, PlyDoublesAndNxNyNz) {
 }
 
 TEST_F(PointCloudFormatsTest, PcdNonFinitePoints) {
-  Result<PointFile> r = ReadPointPcd(DataPath("scan.pcd"));
+  Result<PointFile> r = ReadPointPcd(CloudDataPath("scan.pcd"));
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.status().file(), DataPath("scan.pcd"));
+  EXPECT_EQ(r.status().file(), CloudDataPath("scan.pcd"));
   EXPECT_EQ(r.status().message(),
             "point 2 (0-based) has a NaN or infinite coordinate; expected finite x,y,z (set "
             "skip_nonfinite_points to drop such points)");
   PointReadOptions skip;
   skip.skip_nonfinite_points = true;
-  r = ReadPointPcd(DataPath("scan.pcd"), skip);
+  r = ReadPointPcd(CloudDataPath("scan.pcd"), skip);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   ASSERT_EQ(r->points.size(), 2u);
   EXPECT_EQ(r->points.normal[1], Eigen::Vector3d(0, 1, 0));
@@ -149,14 +149,14 @@ TEST_F(PointCloudFormatsTest, DamagedPlyIsAParseError) {
 TEST_F(PointCloudFormatsTest, AssumedUnitsForFormatsWithoutUnits) {
   PointReadOptions inch;
   inch.assumed_units = LengthUnit::kInch;
-  Result<PointFile> r = ReadPointPly(DataPath("scan_float.ply"), inch);
+  Result<PointFile> r = ReadPointPly(CloudDataPath("scan_float.ply"), inch);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->info.source_units, LengthUnit::kInch);
   EXPECT_EQ(r->points.xyz_mm[0], Eigen::Vector3d(1.5 * kMmPerInch, 2.25 * kMmPerInch, -3 * kMmPerInch));
 }
 
 TEST_F(PointCloudFormatsTest, XyzText) {
-  Result<PointFile> r = ReadPointFile(DataPath("points.xyz"));
+  Result<PointFile> r = ReadPointFile(CloudDataPath("points.xyz"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->info.format, PointFormat::kXyz);
   const PointSet& ps = r->points;
@@ -203,7 +203,7 @@ TEST_F(PointCloudFormatsTest, XyzParallelEqualsSerial) {
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_EQ(b->info.chunks, 4);
   ASSERT_EQ(a->points.size(), 30000u);
-  EXPECT_TRUE(BitsEqual(a->points.xyz_mm, b->points.xyz_mm));
+  EXPECT_TRUE(CloudBitsEqual(a->points.xyz_mm, b->points.xyz_mm));
   EXPECT_EQ(a->points.line, b->points.line);
   EXPECT_EQ(a->points.line.back(), 30000u + 1u + 2u * 30u);
 }
@@ -215,7 +215,7 @@ TEST_F(PointCloudFormatsTest, FormatChoice) {
   EXPECT_EQ(PointFormatFromExtension("b.pcd"), PointFormat::kPcd);
   EXPECT_EQ(PointFormatFromExtension("b.dat"), PointFormat::kAuto);
   const std::string odd = Path("points.dat");
-  fs::copy_file(DataPath("canonical.csv"), odd);
+  fs::copy_file(CloudDataPath("canonical.csv"), odd);
   Result<PointFile> r = ReadPointFile(odd);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);

@@ -14,12 +14,12 @@ namespace {
 
 // Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
 template <typename T>
-bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+bool ReaderBitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 
-std::string DataPath(const std::string& name) {
+std::string ReaderDataPath(const std::string& name) {
   return std::string(TPCAL_SOURCE_DIR) + "/tests/data/points/" + name;
 }
 
@@ -87,7 +87,7 @@ const BadCase kBadCases[] = {
 
 TEST(PointCsvReader, MalformedFilesGiveFileLineAndExpectation) {
   for (const BadCase& c : kBadCases) {
-    const std::string path = DataPath(std::string("bad/") + c.file);
+    const std::string path = ReaderDataPath(std::string("bad/") + c.file);
     for (int threads : {1, 3}) {
       PointReadOptions options = threads == 1 ? Serial() : Parallel(threads);
       Result<PointFile> r = ReadPointCsv(path, options);
@@ -101,14 +101,14 @@ TEST(PointCsvReader, MalformedFilesGiveFileLineAndExpectation) {
 }
 
 TEST(PointCsvReader, ErrorStringIsFileColonLine) {
-  const std::string path = DataPath("bad/short_row.csv");
+  const std::string path = ReaderDataPath("bad/short_row.csv");
   Result<PointFile> r = ReadPointCsv(path);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().ToString(), path + ":4: row has 6 cells, header has 7 (feature,x,y,z,i,j,k)");
 }
 
 TEST(PointCsvReader, MissingFileIsIoError) {
-  Result<PointFile> r = ReadPointCsv(DataPath("no_such_file.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("no_such_file.csv"));
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kIoError);
   EXPECT_NE(r.status().message().find("No such file"), std::string::npos);
@@ -147,14 +147,14 @@ TEST(PointCsvReader, LongCellIsTruncatedInTheMessage) {
 // ---- what is accepted ------------------------------------------------------------------
 
 TEST(PointCsvReader, ContractExample) {
-  Result<PointFile> r = ReadPointCsv(DataPath("canonical.csv"), Serial());
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("canonical.csv"), Serial());
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   EXPECT_EQ(r->info.kind, PointFileKind::kPoints);
   EXPECT_EQ(r->info.source_units, LengthUnit::kMm);
   EXPECT_EQ(r->info.format, PointFormat::kCsv);
   ASSERT_EQ(ps.size(), 5u);
-  EXPECT_EQ(ps.source, DataPath("canonical.csv"));
+  EXPECT_EQ(ps.source, ReaderDataPath("canonical.csv"));
   EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"S_R", "H1", "B_R"}));
   EXPECT_EQ(ps.feature, (std::vector<int>{0, 1, 0, 2, 1}));  // S_R and H1 not contiguous
   EXPECT_EQ(ps.line, (std::vector<std::size_t>{4, 5, 6, 7, 8}));
@@ -172,11 +172,11 @@ TEST(PointCsvReader, ContractExample) {
   EXPECT_EQ(FirstLineOfFeature(ps, 99), 0u);
   EXPECT_EQ(AtFeature(ps, h1, Status(StatusCode::kTooFewPoints, "H1 has 2 points, a circle needs 3"))
                 .ToString(),
-            DataPath("canonical.csv") + ":5: H1 has 2 points, a circle needs 3");
+            ReaderDataPath("canonical.csv") + ":5: H1 has 2 points, a circle needs 3");
 }
 
 TEST(PointCsvReader, ColumnsInAnyOrderAnyCaseAndExtraColumnsKept) {
-  Result<PointFile> r = ReadPointCsv(DataPath("columns_any_order.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("columns_any_order.csv"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   EXPECT_EQ(r->info.kind, PointFileKind::kUntagged);
@@ -191,7 +191,7 @@ TEST(PointCsvReader, ColumnsInAnyOrderAnyCaseAndExtraColumnsKept) {
 }
 
 TEST(PointCsvReader, PlanFileColumnsBecomeAttributes) {
-  Result<PointFile> r = ReadPointCsv(DataPath("plan.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("plan.csv"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   EXPECT_EQ(r->info.kind, PointFileKind::kPlan);
@@ -206,7 +206,7 @@ TEST(PointCsvReader, PlanFileColumnsBecomeAttributes) {
 }
 
 TEST(PointCsvReader, InchesAreConvertedToMm) {
-  Result<PointFile> r = ReadPointCsv(DataPath("inches.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("inches.csv"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->info.source_units, LengthUnit::kInch);
   const PointSet& ps = r->points;
@@ -228,7 +228,7 @@ TEST(PointCsvReader, UnitsDirectiveSpellings) {
 }
 
 TEST(PointCsvReader, RawScanHasNoLabels) {
-  Result<PointFile> r = ReadPointCsv(DataPath("raw_scan.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("raw_scan.csv"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   ASSERT_EQ(ps.size(), 3u);
@@ -245,7 +245,7 @@ TEST(PointCsvReader, MixedLabelledAndUnlabelledRows) {
 }
 
 TEST(PointCsvReader, CrlfTrailingBlanksBlankLinesAndQuotes) {
-  Result<PointFile> r = ReadPointCsv(DataPath("crlf.csv"));
+  Result<PointFile> r = ReadPointCsv(ReaderDataPath("crlf.csv"));
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const PointSet& ps = r->points;
   ASSERT_EQ(ps.size(), 3u);
@@ -258,7 +258,7 @@ TEST(PointCsvReader, CrlfTrailingBlanksBlankLinesAndQuotes) {
 
 TEST(PointCsvReader, TextAttributesKeepTheirText) {
   for (int threads : {1, 2}) {
-    Result<PointFile> r = ReadPointCsv(DataPath("text_attribute.csv"), threads == 1 ? Serial() : Parallel(2));
+    Result<PointFile> r = ReadPointCsv(ReaderDataPath("text_attribute.csv"), threads == 1 ? Serial() : Parallel(2));
     ASSERT_TRUE(r.ok()) << r.status().ToString();
     const PointSet& ps = r->points;
     ASSERT_EQ(ps.attributes.size(), 2u);
@@ -346,8 +346,8 @@ std::string GenerateBigCsv(std::size_t n_rows, std::uint64_t seed) {
 
 void ExpectBitIdentical(const PointSet& a, const PointSet& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_TRUE(BitsEqual(a.xyz_mm, b.xyz_mm));
-  EXPECT_TRUE(BitsEqual(a.normal, b.normal));
+  EXPECT_TRUE(ReaderBitsEqual(a.xyz_mm, b.xyz_mm));
+  EXPECT_TRUE(ReaderBitsEqual(a.normal, b.normal));
   EXPECT_EQ(a.feature, b.feature);
   EXPECT_EQ(a.feature_names, b.feature_names);
   EXPECT_EQ(a.line, b.line);
@@ -355,7 +355,7 @@ void ExpectBitIdentical(const PointSet& a, const PointSet& b) {
   for (std::size_t k = 0; k < a.attributes.size(); ++k) {
     EXPECT_EQ(a.attributes[k].name, b.attributes[k].name);
     EXPECT_EQ(a.attributes[k].text, b.attributes[k].text);
-    EXPECT_TRUE(BitsEqual(a.attributes[k].values, b.attributes[k].values));
+    EXPECT_TRUE(ReaderBitsEqual(a.attributes[k].values, b.attributes[k].values));
   }
 }
 

@@ -16,7 +16,7 @@ constexpr std::size_t kFlushBytes = 1 << 20;
 // by the reader, so the writer refuses it: the caller has a bug.
 constexpr double kWriteNormalTolerance = 1e-3;
 
-std::string Lower(std::string_view s) {
+std::string LowerCell(std::string_view s) {
   std::string out(s);
   for (char& c : out)
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
@@ -32,7 +32,7 @@ void AppendNumber(std::string* out, double v, int fixed_decimals) {
   out->append(buf, r.ptr);
 }
 
-bool IsBlank(char c) { return c == ' ' || c == '\t'; }
+bool IsBlankCell(char c) { return c == ' ' || c == '\t'; }
 
 // Appends a text cell, quoted when the reader would otherwise change it.
 Status AppendText(std::string* out, std::string_view cell, const std::string& what) {
@@ -41,8 +41,8 @@ Status AppendText(std::string* out, std::string_view cell, const std::string& wh
                   fmt::format("{} '{}' contains a quote or line break, which the tpcal CSV "
                               "dialect cannot hold", what, cell));
   const bool quote = cell.find(',') != std::string_view::npos ||
-                     (!cell.empty() && (cell.front() == '#' || IsBlank(cell.front()) ||
-                                        IsBlank(cell.back())));
+                     (!cell.empty() && (cell.front() == '#' || IsBlankCell(cell.front()) ||
+                                        IsBlankCell(cell.back())));
   if (quote) out->push_back('"');
   out->append(cell);
   if (quote) out->push_back('"');
@@ -67,7 +67,7 @@ class CsvFormatter {
     std::vector<std::string> names = {"feature", "x", "y", "z", "i", "j", "k"};
     for (const PointAttribute& a : ps_.attributes) {
       if (a.name.empty()) return invalid("an attribute has an empty name");
-      const std::string lname = Lower(a.name);
+      const std::string lname = LowerCell(a.name);
       for (const std::string& other : names)
         if (lname == other)
           return invalid(fmt::format("attribute name '{}' clashes with another column", a.name));

@@ -13,7 +13,7 @@ namespace {
 
 // Same size and the same bytes (bit-identical doubles; -0.0 differs from 0.0, NaN equals itself).
 template <typename T>
-bool BitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
+bool WriterBitsEqual(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
@@ -59,9 +59,9 @@ PointSet RandomPointSet(std::size_t n, std::uint64_t seed, bool normals) {
   return ps;
 }
 
-void ExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+void WriterExpectSameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_TRUE(BitsEqual(a, b));
+  EXPECT_TRUE(WriterBitsEqual(a, b));
 }
 
 TEST(PointCsvWriter, WritesTheContractLayout) {
@@ -89,8 +89,8 @@ TEST(PointCsvWriter, RoundTripIsBitExact) {
   ASSERT_TRUE(back.ok()) << back.status().ToString();
   const PointSet& r = back->points;
   EXPECT_EQ(back->info.kind, PointFileKind::kPoints);
-  ExpectSameBits(r.xyz_mm, ps.xyz_mm);
-  ExpectSameBits(r.normal, ps.normal);  // normalized() output re-read without change
+  WriterExpectSameBits(r.xyz_mm, ps.xyz_mm);
+  WriterExpectSameBits(r.normal, ps.normal);  // normalized() output re-read without change
   // Labels: names in order of first appearance in the file, indices remapped accordingly.
   ASSERT_EQ(r.size(), ps.size());
   for (std::size_t i = 0; i < ps.size(); ++i) {
@@ -102,7 +102,7 @@ TEST(PointCsvWriter, RoundTripIsBitExact) {
   }
   ASSERT_EQ(r.attributes.size(), 2u);
   EXPECT_EQ(r.attributes[0].name, "t_s");
-  EXPECT_TRUE(BitsEqual(r.attributes[0].values, ps.attributes[0].values));
+  EXPECT_TRUE(WriterBitsEqual(r.attributes[0].values, ps.attributes[0].values));
   EXPECT_EQ(r.attributes[1].text, ps.attributes[1].text);
   EXPECT_EQ(r.line.front(), 4u);  // tag, units, header, first row
   fs::remove_all(dir);
