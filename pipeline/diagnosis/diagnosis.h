@@ -265,7 +265,7 @@ Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const DiagnosisOptions& options = {});
 
 // Measured CMM points (any placement): datum frame from the piece's inspection plan, then
-// DiagnoseObservations. Points that no cut of their feature reaches (ObservationsFromPoints'
+// DiagnoseObservations. Points that no cut of their feature reaches (testpieces::AssociatePoints'
 // association failures, e.g. at a face edge) are skipped and listed in skipped_points.
 // Errors: those of gdt::EvaluatePlan, unlabelled points or unknown features (file and line),
 // kTooFewPoints when the base design has no residual degrees of freedom.
