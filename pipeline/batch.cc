@@ -3,17 +3,16 @@
 #include <glob.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <mutex>
 #include <set>
-#include <thread>
 
 #include <fmt/format.h>
 
+#include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/run_output.h"
 #include "pipeline/run_tables.h"
@@ -87,48 +86,41 @@ Result<BatchResult> RunBatch(const std::vector<std::string>& files, const BatchO
   BatchResult result;
   result.items.resize(files.size());
   const std::vector<std::string> names = RunNames(files);
-  std::atomic<std::size_t> next{0};
   std::size_t done = 0;
   std::mutex mu;
-  auto worker = [&] {
-    for (std::size_t i = next++; i < files.size(); i = next++) {
-      const auto t0 = std::chrono::steady_clock::now();
-      BatchItem item;
-      item.points = files[i];
-      PipelineConfig config = options.base;
-      config.points = files[i];
-      RunOptions run_options;
-      run_options.read_threads = 1;  // the pool already uses every core
-      auto run = RunPipeline(config, run_options);
-      if (!run.ok()) {
-        item.status = run.status().file().empty() ? run.status().WithLocation(files[i]) : run.status();
-      } else {
-        const auto& id = run->stage.identification;
-        item.num_points = run->num_points;
-        item.rms_after_um = id.rms_after_um;
-        item.sigma_um = id.sigma_um;
-        item.parameters = id.parameters;
-        if (options.write_runs) {
-          item.run_dir = (fs::path(options.out_dir) / names[i]).string();
-          if (Status s = WriteDirectoryAtomic(item.run_dir, RenderRunFiles(*run)); !s.ok()) {
-            item.status = s;
-            item.run_dir.clear();
-          }
+  auto run_item = [&](std::size_t i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    BatchItem item;
+    item.points = files[i];
+    PipelineConfig config = options.base;
+    config.points = files[i];
+    RunOptions run_options;
+    run_options.read_threads = 1;  // the pool already uses every core
+    auto run = RunPipeline(config, run_options);
+    if (!run.ok()) {
+      item.status = run.status().file().empty() ? run.status().WithLocation(files[i]) : run.status();
+    } else {
+      const auto& id = run->stage.identification;
+      item.num_points = run->num_points;
+      item.rms_after_um = id.rms_after_um;
+      item.sigma_um = id.sigma_um;
+      item.parameters = id.parameters;
+      if (options.write_runs) {
+        item.run_dir = (fs::path(options.out_dir) / names[i]).string();
+        if (Status s = WriteDirectoryAtomic(item.run_dir, RenderRunFiles(*run)); !s.ok()) {
+          item.status = s;
+          item.run_dir.clear();
         }
       }
-      item.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::lock_guard<std::mutex> lock(mu);
-      result.items[i] = std::move(item);
-      ++done;
-      if (on_item) on_item(result.items[i], done, files.size());
     }
+    item.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::lock_guard<std::mutex> lock(mu);
+    result.items[i] = std::move(item);
+    ++done;
+    if (on_item) on_item(result.items[i], done, files.size());
   };
-  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, std::max(1, static_cast<int>(files.size())));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  // -j N bounds every thread of the batch, the items' own loops included (one shared pool).
+  WithThreadLimit(options.threads, [&] { ParallelForEach(files.size(), true, run_item); });
 
   for (const auto& item : result.items) result.failed += item.status.ok() ? 0 : 1;
   if (Status s = WriteFileAtomic((fs::path(options.out_dir) / "summary.csv").string(), BatchSummaryCsv(result));

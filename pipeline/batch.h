@@ -1,5 +1,5 @@
 // Batch runs of the pipeline (`tpcal run --batch DIR_OR_GLOB`): many point files with one
-// configuration, in parallel on a std::thread pool. A file that fails (unreadable, corrupt, a
+// configuration, in parallel on the shared pool of core/parallel.h. A file that fails (unreadable, corrupt, a
 // feature with too few points, an identification that fails) is recorded with its error and the
 // batch goes on. Each good file gets its own run directory `<out>/<stem>/` (run_output.h); the
 // batch writes `<out>/summary.csv` (one row per file, in input order: status, error, and every
@@ -26,7 +26,7 @@ Result<std::vector<std::string>> ExpandBatchInputs(const std::string& dir_or_glo
 struct BatchOptions {
   PipelineConfig base;  // everything but `points` (and `out`, see out_dir)
   std::string out_dir;  // batch output directory (run directories and the summary)
-  int threads = 0;      // 0 = std::thread::hardware_concurrency()
+  int threads = 0;      // threads in all, nested loops included; 0 = the cores
   bool write_runs = true;  // write each file's run directory (else only the summary)
 };
 

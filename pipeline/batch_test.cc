@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/run_sample.h"
@@ -137,8 +138,13 @@ void CheckBatch(int n_files, const std::vector<int>& corrupt_files) {
   options.out_dir = (dir / "out1").string();
   const int n_serial = std::min(kFiles, 10);
   const std::vector<std::string> first(files->begin(), files->begin() + n_serial);
-  auto serial = RunBatch(first, options);
+  // -j 1 bounds the items' own loops too: they see one thread (core/parallel.h's limit).
+  std::size_t seen_threads = 0;
+  auto serial = RunBatch(first, options, [&](const BatchItem&, std::size_t, std::size_t) {
+    seen_threads = std::max(seen_threads, HardwareThreads());
+  });
   ASSERT_TRUE(serial.ok());
+  EXPECT_EQ(seen_threads, 1u);
   const std::string serial_summary = ReadBatchText(dir / "out1" / "summary.csv");
   std::istringstream a(summary), b(serial_summary);
   std::string la, lb;

@@ -12,7 +12,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
-#include <thread>
+#include "core/parallel.h"
 
 #include "testpieces/probing_plan.h"
 
@@ -456,16 +456,12 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
         out.labels[i] = local.Label(q, scan.has_normals() ? &n : nullptr, options.label_tolerance_mm);
       }
     };
-    const std::size_t threads =
-        indices.size() < kParallelPoints ? 1 : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
-    if (threads == 1) {
-      work(0, indices.size());
-    } else {
-      std::vector<std::thread> pool;
-      for (std::size_t c = 0; c < threads; ++c)
-        pool.emplace_back(work, indices.size() * c / threads, indices.size() * (c + 1) / threads);
-      for (auto& th : pool) th.join();
-    }
+    // One chunk per thread at most: each builds its own Labeler.
+    ParallelChunks(indices.size(), std::max(kParallelPoints, indices.size() / HardwareThreads() + 1),
+                   [&](std::size_t begin, std::size_t end) {
+                     work(begin, end);
+                     return true;
+                   });
     double ss = 0.0;
     for (std::size_t i : indices) {
       if (out.labels[i].feature == PointSet::kUnlabelled) continue;

@@ -8,11 +8,11 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/report_html.h"
 #include "pipeline/run_config.h"
@@ -95,15 +95,9 @@ Status WriteDirectoryAtomic(const std::string& out_dir, const std::vector<RunFil
   // The files are written (and fsynced) concurrently: the fsyncs then share journal commits
   // instead of waiting for one each.
   std::vector<Status> written(files.size());
-  {
-    std::vector<std::thread> writers;
-    writers.reserve(files.size());
-    for (std::size_t i = 0; i < files.size(); ++i)
-      writers.emplace_back([&, i] {
-        written[i] = WriteFileAtomic((temp / files[i].relative_path).string(), files[i].contents);
-      });
-    for (auto& t : writers) t.join();
-  }
+  ParallelForEach(files.size(), true, [&](std::size_t i) {
+    written[i] = WriteFileAtomic((temp / files[i].relative_path).string(), files[i].contents);
+  });
   for (const Status& s : written)
     if (!s.ok()) return cleanup(s);
   if (Status s = FsyncDir(temp); !s.ok()) return cleanup(s);

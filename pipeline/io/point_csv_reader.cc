@@ -8,10 +8,10 @@
 #include <cstring>
 #include <exception>
 #include <system_error>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/io/large_alloc.h"
@@ -632,7 +632,7 @@ Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
 
 int ResolveThreads(int threads) {
   if (threads > 0) return threads;
-  return std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<int>(HardwareThreads());
 }
 
 // Splits `data` into at most `n` pieces of at least `min_bytes`, each starting a line.
@@ -653,22 +653,6 @@ std::vector<std::string_view> SplitChunks(std::string_view data, int n, std::siz
     chunks.push_back(data.substr(starts[k], e - starts[k]));
   }
   return chunks;
-}
-
-// Runs fn(k) for k in [0, n): k = 0 on the calling thread, the others on their own threads
-// (or on the calling thread too if the system refuses to start more threads).
-template <typename Fn>
-void RunParallel(std::size_t n, Fn fn) {
-  std::vector<std::thread> threads;
-  threads.reserve(n > 0 ? n - 1 : 0);
-  std::size_t k = 1;
-  try {
-    for (; k < n; ++k) threads.emplace_back(fn, k);
-  } catch (const std::system_error&) {
-    for (std::size_t rest = k; rest < n; ++rest) fn(rest);
-  }
-  if (n > 0) fn(0);
-  for (auto& t : threads) t.join();
 }
 
 // Re-reads a chunk for the attributes kept as text (their numeric parse failed somewhere).
@@ -709,7 +693,7 @@ Result<PointFile> ParsePointText(std::string_view text, const std::string& sourc
   const std::vector<std::string_view> chunks =
       SplitChunks(data, ResolveThreads(options.threads), options.min_chunk_bytes);
   std::vector<ChunkOut> outs(chunks.size());
-  RunParallel(chunks.size(), [&](std::size_t k) {
+  ParallelForEach(chunks.size(), true, [&](std::size_t k) {
     try {
       ChunkParser parser(ctx, &outs[k]);
       if (dialect == TextDialect::kCsv)
@@ -801,7 +785,7 @@ Result<PointFile> ParsePointText(std::string_view text, const std::string& sourc
   ReserveLarge(&ps.line, total);
   ps.line.resize(total);
 
-  RunParallel(chunks.size(), [&](std::size_t k) {
+  ParallelForEach(chunks.size(), true, [&](std::size_t k) {
     ChunkOut& o = outs[k];
     const std::size_t off = offset[k];
     std::copy(o.xyz.begin(), o.xyz.end(), ps.xyz_mm.begin() + static_cast<std::ptrdiff_t>(off));

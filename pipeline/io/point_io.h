@@ -51,7 +51,7 @@ PointFormat PointFormatFromExtension(const std::string& path);
 
 struct PointReadOptions {
   PointFormat format = PointFormat::kAuto;  // kAuto: choose by extension (error if unknown)
-  // Worker threads for text parsing: 0 = std::thread::hardware_concurrency(), 1 = serial.
+  // Text chunks parsed in parallel on the shared pool: 0 = one per thread (core/parallel.h), 1 = serial.
   // The text is split into that many chunks at line boundaries.
   int threads = 0;
   // Do not make chunks smaller than this (bytes); small files are parsed serially.
