@@ -1,6 +1,7 @@
 #include "pipeline/run_output.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <unistd.h>
 
@@ -42,6 +43,30 @@ std::string RandomHex() {
   return fmt::format("{:08x}", rd());
 }
 
+// The pid in a sibling "<name>.tmp.<pid>.<hex>" or "<name>.old.<pid>.<hex>", or 0.
+pid_t SiblingPid(const std::string& sibling, const std::string& name) {
+  for (const char* kind : {".tmp.", ".old."}) {
+    const std::string prefix = name + kind;
+    if (sibling.rfind(prefix, 0) != 0) continue;
+    const std::string rest = sibling.substr(prefix.size());
+    const std::size_t dot = rest.find('.');
+    if (dot == 0 || dot == std::string::npos || rest.find_first_not_of("0123456789") != dot) return 0;
+    return static_cast<pid_t>(std::stol(rest.substr(0, dot)));
+  }
+  return 0;
+}
+
+// Removes the siblings a killed run left (their process is gone); a live run's are kept.
+void RemoveStaleSiblings(const fs::path& parent, const std::string& name) {
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const auto& e : fs::directory_iterator(parent, ec)) {
+    const pid_t pid = SiblingPid(e.path().filename().string(), name);
+    if (pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(e.path());
+  }
+  for (const auto& p : stale) fs::remove_all(p, ec);
+}
+
 }  // namespace
 
 std::vector<RunFile> RenderRunFiles(const RunResult& r) {
@@ -79,6 +104,7 @@ Status WriteDirectoryAtomic(const std::string& out_dir, const std::vector<RunFil
                     out_dir);
   }
 
+  RemoveStaleSiblings(parent, name.string());
   const fs::path temp = parent / fmt::format("{}.tmp.{}.{}", name.string(), ::getpid(), RandomHex());
   if (!fs::create_directory(temp, ec) || ec)
     return Status(StatusCode::kIoError, "cannot create directory: " + ec.message(), temp.string());

@@ -6,7 +6,8 @@
 // `<out>.tmp.<pid>.<random>`, which then replaces `<out>` by one rename(2) (a new target) or one
 // renameat2(RENAME_EXCHANGE) (an existing target, whose old contents are then removed). A crash
 // or kill leaves either the old directory or the new one, never a mix or a half-written report;
-// at worst a stale `*.tmp.*` sibling. An existing `<out>` is replaced only if it is empty or
+// at worst a stale `*.tmp.*` sibling, which the next run into the same place removes (its
+// process is gone). An existing `<out>` is replaced only if it is empty or
 // holds a previous run (a result.json); anything else is refused (kInvalidArgument), so a typo
 // in --out cannot wipe an unrelated directory.
 #pragma once
