@@ -360,9 +360,13 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
   }
   const TallSvdResult svd = TallSvd(A, /*compute_u=*/false);
   const double smax = svd.sigma.size() ? svd.sigma(0) : 0.0;
+  // Rank relative to the columns before the alignment took its share: a coefficient the
+  // re-alignment absorbs whole leaves only rounding, which must not count even when it is all
+  // that is left (relative to the projected columns alone it would).
+  const double scale = std::max(smax, lin0->J_dev_params.colwise().norm().maxCoeff());
   int rank = 0;
   for (Eigen::Index k = 0; k < svd.sigma.size(); ++k)
-    if (svd.sigma(k) > options.rank_tolerance * smax) ++rank;
+    if (svd.sigma(k) > options.rank_tolerance * scale) ++rank;
   if (rank == 0)
     return Status(StatusCode::kNotIdentifiable, "the measured points do not depend on any of the " +
                                                      std::to_string(q) + " coefficients");

@@ -14,7 +14,8 @@
 //
 // Identifiability. The Jacobian, columns scaled to display units (um, urad) and with the nuisance
 // projected out, is decomposed by SVD. Directions whose singular value is below
-// rank_tolerance * largest are not identifiable: coefficients with a component in them get no
+// rank_tolerance * largest (of the projected ones, or the largest column norm before the
+// projection when that is larger) are not identifiable: coefficients with a component in them get no
 // value (identifiable = false) and the estimable combinations of those coefficients are reported
 // by name ("dy_AR(-90) + dz_AR(-90)"), with value and uncertainty. The solution is the
 // minimum-norm one in display units (non-identifiable directions set to zero).

@@ -306,6 +306,42 @@ TEST(Identification, OffsetAndSquarenessAtOneHeightGiveACombination) {
   EXPECT_LT(id->rms_after_um, 1e-4);
 }
 
+// An X offset of the X axis (E_XX.c0, 3 um) moves every point of the box by the same vector, which
+// the re-alignment's X translation absorbs whole: once the nuisance is projected out, its column is
+// rounding (about 1e-13 of its norm). Alone it must be reported as not identifiable
+// (kNotIdentifiable), not as a rank-1 fit of that rounding; beside the squareness errors it is the
+// one coefficient without a value while the three squareness errors keep theirs (to 1e-3 urad, as
+// in the round trip).
+TEST(Identification, OffsetAbsorbedByTheAlignmentIsNotIdentifiable) {
+  const MachineModel m = IdentifyTestMachine();
+  {
+    ErrorState base(m), truth(m);
+    ActiveSet active;
+    ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, {"E_XX.c0"}, {3.0}, &base, &truth, &active));
+    std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+    ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+    const Result<IdentificationResult> alone = Identify(m, base, active, obs);
+    ASSERT_FALSE(alone.ok());
+    EXPECT_EQ(alone.status().code(), StatusCode::kNotIdentifiable) << alone.status().ToString();
+  }
+  const std::vector<std::string> names = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z", "E_XX.c0"};
+  const std::vector<double> values = {14.0, -9.0, 6.0, 3.0};
+  ErrorState base(m), truth(m);
+  ActiveSet active;
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, values, &base, &truth, &active));
+  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+  const Result<IdentificationResult> id = Identify(m, base, active, obs);
+  ASSERT_TRUE(id.ok()) << id.status().ToString();
+  EXPECT_EQ(id->identifiability.rank, 3);
+  ASSERT_EQ(id->parameters.size(), 4u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(id->parameters[k].identifiable) << names[k];
+    EXPECT_NEAR(id->parameters[k].value, values[k], 1e-3) << names[k];
+  }
+  EXPECT_FALSE(id->parameters[3].identifiable);
+}
+
 // n must exceed q + 6 (coefficients and alignment terms); no observations at all is the extreme
 // case. Identify returns kTooFewPoints (identification.cc, before any linearisation).
 TEST(Identification, TooFewObservationsAreAnError) {
