@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/portable_random.h"
 #include "core/units.h"
 
 namespace tpcal::kinematics {
@@ -25,8 +26,9 @@ namespace {
 
 // Uniform random rotation (Shoemake's unit quaternion method).
 Eigen::Matrix3d RandomRotation(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  const double u1 = uni(rng), u2 = uni(rng), u3 = uni(rng);
+  const double u1 = UniformUnit(rng);
+  const double u2 = UniformUnit(rng);
+  const double u3 = UniformUnit(rng);
   const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
   const Eigen::Quaterniond q(b * std::cos(2 * kPi * u3), a * std::sin(2 * kPi * u2),
                              a * std::cos(2 * kPi * u2), b * std::sin(2 * kPi * u3));
@@ -45,20 +47,19 @@ Result<VirtualCmmResult> MeasureWithVirtualCmm(const PointSet& actual_in_part,
   }
   VirtualCmmResult out;
   if (options.random_placement) {
-    std::uniform_real_distribution<double> uni(-options.max_translation_mm, options.max_translation_mm);
+    const double max_mm = options.max_translation_mm;
     Eigen::Matrix3d R;
     if (options.any_orientation) {
       R = RandomRotation(rng);
     } else {
-      std::uniform_real_distribution<double> ang(-kPi, kPi);
-      R = Eigen::AngleAxisd(ang(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      R = Eigen::AngleAxisd(UniformIn(rng, -kPi, kPi), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     }
-    const Eigen::Vector3d t(uni(rng), uni(rng), uni(rng));
+    Eigen::Vector3d t;  // drawn x, y, z in this order (argument order is unspecified in C++)
+    for (int k = 0; k < 3; ++k) t(k) = UniformIn(rng, -max_mm, max_mm);
     out.cmm_from_part = MakeRigid(R, t);
   }
   out.points = actual_in_part;
   out.points.source = actual_in_part.source + " (virtual CMM)";
-  std::normal_distribution<double> noise(0.0, 1.0);
   const double probe_mm = UmToMm(options.probe_radius_error_um);
   const double sigma_mm = UmToMm(options.noise_sigma_um);
   for (size_t i = 0; i < actual_in_part.size(); ++i) {
@@ -67,7 +68,7 @@ Result<VirtualCmmResult> MeasureWithVirtualCmm(const PointSet& actual_in_part,
       return Status(StatusCode::kInvalidArgument,
                     "virtual CMM: normal of point " + std::to_string(i) + " is not a unit vector");
     }
-    const double shift = probe_mm + sigma_mm * noise(rng);
+    const double shift = probe_mm + sigma_mm * StandardNormal(rng);
     out.points.xyz_mm[i] = out.cmm_from_part * (actual_in_part.xyz_mm[i] + shift * n);
     out.points.normal[i] = out.cmm_from_part.linear() * n;
   }

@@ -29,7 +29,8 @@ struct VirtualCmmResult {
 };
 
 // `actual_in_part` must carry unit normals (nominal outward normals, part frame). Draws from
-// `rng` in a fixed order: placement first (if any), then one normal deviate per point.
+// `rng` in a fixed order: placement first (if any), then one normal deviate per point, all drawn
+// by core/portable_random.h (the same values with any standard library).
 Result<VirtualCmmResult> MeasureWithVirtualCmm(const PointSet& actual_in_part,
                                                const VirtualCmmOptions& options,
                                                std::mt19937_64& rng);
