@@ -13,12 +13,12 @@
 namespace tpcal::testpieces {
 namespace {
 
-std::string Num(double v) {
+std::string DmisNum(double v) {
   if (std::abs(v) < 5e-7) v = 0.0;  // no "-0.000000"
   return fmt::format("{:.6f}", v);
 }
 
-std::string Xyz(const Eigen::Vector3d& p) { return Num(p.x()) + "," + Num(p.y()) + "," + Num(p.z()); }
+std::string Xyz(const Eigen::Vector3d& p) { return DmisNum(p.x()) + "," + DmisNum(p.y()) + "," + DmisNum(p.z()); }
 
 bool DmisLabelOk(const std::string& s) {
   if (s.empty()) return false;
@@ -86,7 +86,7 @@ Result<std::string> NominalFeat(const std::string& name, gdt::FeatureKind kind, 
       radial(axis, &radius, &outer);
       *dmis_type = kind == gdt::FeatureKind::kCircle ? "CIRCLE" : "CYLNDR";
       return fmt::format("F({})=FEAT/{},{},CART,{},{},{}", name, *dmis_type, outer ? "OUTER" : "INNER", Xyz(c),
-                         Xyz(axis), Num(2 * radius));
+                         Xyz(axis), DmisNum(2 * radius));
     }
     case gdt::FeatureKind::kLine3:
     case gdt::FeatureKind::kLine2:
@@ -138,8 +138,8 @@ Result<std::string> FormatDmisProgram(const TestPiece& piece, const ProbingPlan&
                  "WKPLAN/XYPLAN\n"
                  "SNSET/APPRCH,{}\n"
                  "SNSET/RETRCT,{}\n",
-                 piece.name, ps.size(), ps.feature_names.size(), piece.name, piece.name, Num(options.approach_mm),
-                 Num(options.approach_mm));
+                 piece.name, ps.size(), ps.feature_names.size(), piece.name, piece.name, DmisNum(options.approach_mm),
+                 DmisNum(options.approach_mm));
 
   // (1) Manual alignment on the datum features.
   const gdt::DatumFrameSpec& frame = *piece.inspection.datum_frame;
@@ -224,8 +224,8 @@ Result<std::string> FormatDmisProgram(const TestPiece& piece, const ProbingPlan&
     const Eigen::Vector3d approach = ps.xyz_mm[i] + options.approach_mm * ps.normal[i];
     if (ps.feature[i] != last_feature) {
       if (i > 0)
-        fmt::format_to(app, "GOTO/CART,{},{},{}\n", Num(last_approach.x()), Num(last_approach.y()), Num(z_safe));
-      fmt::format_to(app, "$$ feature {}\nGOTO/CART,{},{},{}\n", f, Num(approach.x()), Num(approach.y()), Num(z_safe));
+        fmt::format_to(app, "GOTO/CART,{},{},{}\n", DmisNum(last_approach.x()), DmisNum(last_approach.y()), DmisNum(z_safe));
+      fmt::format_to(app, "$$ feature {}\nGOTO/CART,{},{},{}\n", f, DmisNum(approach.x()), DmisNum(approach.y()), DmisNum(z_safe));
       last_feature = ps.feature[i];
     }
     fmt::format_to(app, "F({})=FEAT/POINT,CART,{},{}\nMEAS/POINT,F({}),1\nGOTO/CART,{}\nPTMEAS/CART,{},{}\nGOTO/CART,{}\nENDMES\n",
@@ -234,7 +234,7 @@ Result<std::string> FormatDmisProgram(const TestPiece& piece, const ProbingPlan&
     last_approach = approach;
     labels.push_back(label);
   }
-  fmt::format_to(app, "GOTO/CART,{},{},{}\n", Num(last_approach.x()), Num(last_approach.y()), Num(z_safe));
+  fmt::format_to(app, "GOTO/CART,{},{},{}\n", DmisNum(last_approach.x()), DmisNum(last_approach.y()), DmisNum(z_safe));
 
   // (3) Every actual to the output file.
   out += "$$ 3. Output of every point actual (FA) to the .dmo.\n";

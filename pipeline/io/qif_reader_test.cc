@@ -206,7 +206,7 @@ TEST(QifReader, ParallelScanOfLargePointsEqualsSerial) {
   EXPECT_NE(ea.status().message().find("'1.5e'"), std::string::npos) << ea.status().ToString();
 }
 
-struct BadCase {
+struct QifBadCase {
   const char* what;
   std::string text;
   std::size_t line;
@@ -214,7 +214,7 @@ struct BadCase {
 };
 
 TEST(QifReader, BadFilesSayFileLineAndWhatWasExpected) {
-  const std::vector<BadCase> cases = {
+  const std::vector<QifBadCase> cases = {
       {"unclosed", Doc(kMm, kPlaneWhole10, kSet10).substr(0, 300), 0, "malformed XML"},
       {"unknown unit",
        Doc("<FileUnits><PrimaryUnits><LinearUnit><UnitName>furlong</UnitName></LinearUnit></PrimaryUnits>"
@@ -249,7 +249,7 @@ TEST(QifReader, BadFilesSayFileLineAndWhatWasExpected) {
       {"doctype", "<?xml version=\"1.0\"?>\n<!-- c -->\n<!DOCTYPE lol [<!ENTITY a \"aaaa\">]>\n<QIFDocument/>\n", 3,
        "expected no document type declaration"},
   };
-  for (const BadCase& c : cases) {
+  for (const QifBadCase& c : cases) {
     auto r = ParseQif(c.text, "bad.qif");
     ASSERT_FALSE(r.ok()) << c.what;
     EXPECT_EQ(r.status().code(), StatusCode::kParseError) << c.what;
