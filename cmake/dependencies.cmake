@@ -42,3 +42,6 @@ add_library(tpcal_xxhash INTERFACE)
 target_include_directories(tpcal_xxhash SYSTEM INTERFACE ${XXHASH_INCLUDE_DIR})
 target_link_libraries(tpcal_xxhash INTERFACE ${XXHASH_LIBRARY})
 add_library(tpcal::xxhash ALIAS tpcal_xxhash)
+
+# libxml2 (Debian libxml2-dev): the QIF reader's streaming XML parser (tpcal::io, PRIVATE).
+find_package(LibXml2 REQUIRED)  # imported target LibXml2::LibXml2

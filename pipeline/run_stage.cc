@@ -10,6 +10,7 @@
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
 #include "pipeline/io/xxh64.h"
+#include "pipeline/io/xyzijk_reader.h"
 #include "testpieces/default_parameters.h"
 
 namespace tpcal::pipeline {
@@ -59,7 +60,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   const std::string digest = fmt::format("{:016x}", Xxh64(bytes->view()));
   const PointFormat format = read.format == PointFormat::kAuto ? PointFormatFromExtension(config.points) : read.format;
   auto file = format == PointFormat::kCsv   ? ParsePointCsv(bytes->view(), config.points, read)
-              : format == PointFormat::kXyz ? ParsePointXyz(bytes->view(), config.points, read)
+              : format == PointFormat::kXyz && !IsXyzijkText(bytes->view()) ? ParsePointXyz(bytes->view(), config.points, read)
                                             : ReadPointFile(config.points, read);
   bytes->data.reset();
   if (!file.ok()) return file.status();

@@ -11,7 +11,7 @@ $SUDO apt-get -o DPkg::Lock::Timeout=300 update -qq
 $APT install g++ cmake ninja-build git pkg-config \
   libeigen3-dev libceres-dev libcgal-dev libgmp-dev libmpfr-dev libpcl-dev \
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev \
-  libyaml-cpp-dev libcli11-dev libfmt-dev libfast-float-dev nlohmann-json3-dev libxxhash-dev libtbb-dev \
+  libyaml-cpp-dev libcli11-dev libfmt-dev libfast-float-dev nlohmann-json3-dev libxxhash-dev libtbb-dev libxml2-dev \
   libgtest-dev libgmock-dev libbenchmark-dev
 # Tests: LinuxCNC's standalone interpreter (rs274) checks the NC programs; headless Chromium
 # renders the HTML report. --no-install-recommends keeps LinuxCNC's real-time kernel out.

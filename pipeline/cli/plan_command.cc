@@ -20,6 +20,7 @@
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/io/point_io.h"
 #include "testpieces/brep.h"
+#include "testpieces/dmis_program.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/probing_plan.h"
@@ -137,6 +138,7 @@ struct PlanArgs {
   std::string out;
   std::string step;
   std::string write_config;
+  std::string dmis;
 };
 
 // The plan as a contract PointSet: datum-frame points and normals, then the extra columns.
@@ -168,7 +170,7 @@ PointSet PlanAsPointSet(const testpieces::ProbingPlan& plan, const kinematics::M
 }
 
 int RunPlan(const PlanArgs& args) {
-  if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--step", args.step}, {"--write-config", args.write_config}});
+  if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--step", args.step}, {"--write-config", args.write_config}, {"--dmis", args.dmis}});
       !s.ok())
     return ReportError(s);
   auto built = BuildPiece(args.piece);
@@ -184,6 +186,8 @@ int RunPlan(const PlanArgs& args) {
   // Format first: a row the dialect cannot hold fails before anything is written.
   auto text = pipeline::FormatPointCsv(ps, wo);
   if (!text.ok()) return ReportError(text.status().WithLocation(args.out));
+  auto dmis = args.dmis.empty() ? Result<std::string>(std::string()) : testpieces::FormatDmisProgram(built->piece, *plan);
+  if (!dmis.ok()) return ReportError(dmis.status().WithLocation(args.dmis));
 
   if (!args.step.empty()) {
     Info("building the B-rep (OpenCASCADE) for " + args.step);
@@ -196,6 +200,8 @@ int RunPlan(const PlanArgs& args) {
   Info(fmt::format("wrote {}: {} points on {} features (datum frame, mm)", args.out, ps.size(), ps.feature_names.size()));
   if (Status s = WriteEffectiveConfig(args.write_config, *built); !s.ok()) return ReportError(s);
   if (!args.write_config.empty()) Info("wrote " + args.write_config);
+  if (Status s = args.dmis.empty() ? Status::Ok() : pipeline::WriteFileAtomic(args.dmis, *dmis); !s.ok()) return ReportError(s);
+  if (!args.dmis.empty()) Info("wrote " + args.dmis + " (DMIS inspection program, docs/formats/dmis.md)");
   return kExitOk;
 }
 
@@ -215,6 +221,7 @@ Command RegisterPlan(CLI::App& app) {
   sub->add_option("--step", args->step, "also write the nominal B-rep of the piece as AP214 STEP (part frame, mm)");
   sub->add_option("--write-config", args->write_config,
                   "also write the effective test-piece configuration (every key, defaults included) as YAML");
+  sub->add_option("--dmis", args->dmis, "also write the plan as a DMIS inspection program (.dmi, docs/formats/dmis.md)");
   return {sub, [args] { return RunPlan(*args); }};
 }
 

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "pipeline/io/dmis_reader.h"
 #include "pipeline/io/point_io.h"
+#include "pipeline/io/qif_reader.h"
+#include "pipeline/io/xyzijk_reader.h"
 
 namespace tpcal::pipeline {
 
@@ -15,6 +18,9 @@ const char* PointFormatName(PointFormat format) {
     case PointFormat::kPly: return "ply";
     case PointFormat::kPcd: return "pcd";
     case PointFormat::kXyz: return "xyz";
+    case PointFormat::kQif: return "qif";
+    case PointFormat::kDmis: return "dmis";
+    case PointFormat::kXyzijk: return "xyzijk";
   }
   return "unknown";
 }
@@ -27,6 +33,8 @@ PointFormat PointFormatFromExtension(const std::string& path) {
   if (ext == ".ply") return PointFormat::kPly;
   if (ext == ".pcd") return PointFormat::kPcd;
   if (ext == ".xyz" || ext == ".txt") return PointFormat::kXyz;
+  if (ext == ".qif") return PointFormat::kQif;
+  if (ext == ".dmo") return PointFormat::kDmis;
   return PointFormat::kAuto;
 }
 
@@ -59,7 +67,10 @@ Result<PointFile> ReadPointFile(const std::string& path, const PointReadOptions&
     case PointFormat::kCsv: return ReadPointCsv(path, options);
     case PointFormat::kPly: return ReadPointPly(path, options);
     case PointFormat::kPcd: return ReadPointPcd(path, options);
-    case PointFormat::kXyz: return ReadPointXyz(path, options);
+    case PointFormat::kXyz: return IsXyzijkFile(path) ? ReadPointXyzijk(path, options) : ReadPointXyz(path, options);
+    case PointFormat::kQif: return ReadPointQif(path, options);
+    case PointFormat::kDmis: return ReadPointDmis(path, options);
+    case PointFormat::kXyzijk: return ReadPointXyzijk(path, options);
     case PointFormat::kAuto: break;
   }
   return Status(StatusCode::kInvalidArgument,

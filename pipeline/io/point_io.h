@@ -40,13 +40,15 @@
 
 namespace tpcal::pipeline {
 
-enum class PointFormat { kAuto, kCsv, kPly, kPcd, kXyz };
+enum class PointFormat { kAuto, kCsv, kPly, kPcd, kXyz, kQif, kDmis, kXyzijk };
 enum class LengthUnit { kMm, kInch };
 // Which tag the file carried: `# tpcal points v1`, `# tpcal plan v1`, or none.
 enum class PointFileKind { kUntagged, kPoints, kPlan };
 
 const char* PointFormatName(PointFormat format);
-// Format from the file extension (case-insensitive): .csv, .ply, .pcd, .xyz/.txt; else kAuto.
+// Format from the file extension (case-insensitive): .csv, .ply, .pcd, .xyz/.txt, .qif
+// (qif_reader.h), .dmo (dmis_reader.h); else kAuto. A .xyz/.txt file whose first line is
+// `XYZIJK` is read as PC-DMIS XYZIJK text (dmis_reader.h).
 PointFormat PointFormatFromExtension(const std::string& path);
 
 struct PointReadOptions {

@@ -1,0 +1,40 @@
+// tests/data/dmis/ and tests/data/qif/turning_sample.qif hold samples/turning/cmm_points.csv in
+// the CMM formats: read through the dispatch they give the CSV's points bit for bit, and the QIF
+// file is what FormatPointQif writes today (regenerate it with FormatPointQif if this fails on
+// purpose).
+#include <gtest/gtest.h>
+
+#include "pipeline/io/file_bytes.h"
+#include "pipeline/io/point_io.h"
+#include "pipeline/io/qif_reader.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+std::string SourcePath(const std::string& rel) { return std::string(TPCAL_SOURCE_DIR) + "/" + rel; }
+
+TEST(CmmSamples, DmisQifAndXyzijkHoldTheTurningSample) {
+  auto csv = ReadPointFile(SourcePath("samples/turning/cmm_points.csv"));
+  ASSERT_TRUE(csv.ok()) << csv.status().ToString();
+  const struct {
+    const char* path;
+    PointFormat format;
+  } files[] = {{"tests/data/dmis/turning_sample.dmo", PointFormat::kDmis},
+               {"tests/data/qif/turning_sample.qif", PointFormat::kQif},
+               {"tests/data/dmis/turning_sample_xyzijk.txt", PointFormat::kXyzijk}};
+  for (const auto& f : files) {
+    auto r = ReadPointFile(SourcePath(f.path));
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    EXPECT_EQ(r->info.format, f.format) << f.path;
+    EXPECT_EQ(r->points.xyz_mm, csv->points.xyz_mm) << f.path;
+    EXPECT_EQ(r->points.normal, csv->points.normal) << f.path;
+    EXPECT_EQ(r->points.feature, csv->points.feature) << f.path;
+    EXPECT_EQ(r->points.feature_names, csv->points.feature_names) << f.path;
+  }
+  auto qif = ReadFileBytes(SourcePath("tests/data/qif/turning_sample.qif"));
+  ASSERT_TRUE(qif.ok());
+  EXPECT_EQ(std::string(qif->view()), FormatPointQif(csv->points));
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
