@@ -1,9 +1,13 @@
 // tests/data/dmis/ and tests/data/qif/turning_sample.qif hold samples/turning/cmm_points.csv in
 // the CMM formats: read through the dispatch they give the CSV's points bit for bit, and the QIF
-// file is what FormatPointQif writes today (regenerate it with FormatPointQif if this fails on
-// purpose).
+// file is what FormatPointQif writes today. When the sample changes on purpose, regenerate the
+// QIF file with TPCAL_REGENERATE_SAMPLES=1 (this test then writes it) and the DMIS and XYZIJK
+// files with tests/data/dmis/regenerate.py (their number text is the CSV's, copied).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/io/qif_reader.h"
@@ -16,6 +20,10 @@ std::string SourcePath(const std::string& rel) { return std::string(TPCAL_SOURCE
 TEST(CmmSamples, DmisQifAndXyzijkHoldTheTurningSample) {
   auto csv = ReadPointFile(SourcePath("samples/turning/cmm_points.csv"));
   ASSERT_TRUE(csv.ok()) << csv.status().ToString();
+  if (std::getenv("TPCAL_REGENERATE_SAMPLES")) {
+    ASSERT_TRUE(WriteFileAtomic(SourcePath("tests/data/qif/turning_sample.qif"), FormatPointQif(csv->points)).ok());
+    GTEST_SKIP() << "regenerated tests/data/qif/turning_sample.qif";
+  }
   const struct {
     const char* path;
     PointFormat format;

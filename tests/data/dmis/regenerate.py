@@ -1,0 +1,33 @@
+#!/usr/bin/env python3
+"""Rewrites turning_sample.dmo and turning_sample_xyzijk.txt from samples/turning/cmm_points.csv:
+the same header lines, then one line per point with the CSV's number text copied unchanged
+(labels <feature>_<k>, k counting the feature's points from 1). Run from anywhere."""
+import os
+
+here = os.path.dirname(os.path.abspath(__file__))
+csv = os.path.join(here, "..", "..", "..", "samples", "turning", "cmm_points.csv")
+rows = []
+with open(csv) as f:
+    for line in f:
+        if line.startswith("#") or line.startswith("feature,") or not line.strip():
+            continue
+        cells = line.rstrip("\n").split(",")
+        rows.append((cells[0], cells[1:7]))
+
+
+def rewrite(name, keep_prefix, body):
+    path = os.path.join(here, name)
+    with open(path) as f:
+        head = [l for l in f.read().splitlines(True) if keep_prefix(l)]
+    with open(path, "w") as f:
+        f.write("".join(head) + "".join(body))
+
+
+counts = {}
+dmo = []
+for feature, numbers in rows:
+    counts[feature] = counts.get(feature, 0) + 1
+    dmo.append("FA(%s_%d)=FEAT/POINT,CART,%s\n" % (feature, counts[feature], ",".join(numbers)))
+rewrite("turning_sample.dmo", lambda l: not l.startswith("FA(") and not l.startswith("ENDFIL"), dmo + ["ENDFIL\n"])
+rewrite("turning_sample_xyzijk.txt", lambda l: l.strip() in ("XYZIJK", "METRIC"),
+        ["%s,%s\n" % (feature, ",".join(numbers)) for feature, numbers in rows])
