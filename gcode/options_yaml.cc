@@ -3,12 +3,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "core/text_file.h"
 #include "gcode/nc_format.h"
 
 namespace tpcal::gcode {
@@ -264,12 +264,9 @@ Result<GcodeOptions> ParseGcodeOptions(std::string_view yaml_text, const std::st
 }
 
 Result<GcodeOptions> LoadGcodeOptions(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open gcode options file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read gcode options file", path);
-  return ParseGcodeOptions(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open gcode options file");
+  if (!text.ok()) return text.status();
+  return ParseGcodeOptions(*text, path);
 }
 
 std::string FormatGcodeOptions(const GcodeOptions& o) {

@@ -3,11 +3,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <set>
-#include <sstream>
 #include <vector>
+
+#include "core/text_file.h"
 
 namespace tpcal::gdt {
 namespace {
@@ -365,12 +365,9 @@ Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::str
 }
 
 Result<InspectionPlan> LoadInspectionPlan(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open inspection plan", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read inspection plan", path);
-  return ParseInspectionPlan(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open inspection plan");
+  if (!text.ok()) return text.status();
+  return ParseInspectionPlan(*text, path);
 }
 
 }  // namespace tpcal::gdt

@@ -3,10 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
+#include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
@@ -199,11 +198,9 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
 }
 
 Result<PipelineConfig> LoadPipelineConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open pipeline file", path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ParsePipelineConfig(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open pipeline file");
+  if (!text.ok()) return text.status();
+  return ParsePipelineConfig(*text, path);
 }
 
 std::string FormatPipelineConfig(const PipelineConfig& c) {

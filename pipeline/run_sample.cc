@@ -3,10 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
+#include "core/text_file.h"
 #include "kinematics/errors_yaml.h"
 
 namespace tpcal::pipeline {
@@ -27,13 +26,11 @@ std::string ResolveTruthPath(const std::string& source, const std::string& path)
 }  // namespace
 
 Result<SampleTruth> LoadSampleTruth(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open truth file", path);
-  std::stringstream ss;
-  ss << in.rdbuf();
+  Result<std::string> text = ReadTextFile(path, "cannot open truth file");
+  if (!text.ok()) return text.status();
   YAML::Node root;
   try {
-    root = YAML::Load(ss.str());
+    root = YAML::Load(*text);
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, e.msg, path, static_cast<std::size_t>(e.mark.line) + 1);
   }

@@ -6,11 +6,12 @@
 #include <cstdio>
 #include <cstring>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <variant>
+
+#include "core/text_file.h"
 
 namespace tpcal::testpieces {
 namespace {
@@ -422,11 +423,9 @@ Result<PieceConfig> ParsePieceConfig(std::string_view yaml_text, const std::stri
 }
 
 Result<PieceConfig> LoadPieceConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot read the test-piece config", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ParsePieceConfig(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot read the test-piece config");
+  if (!text.ok()) return text.status();
+  return ParsePieceConfig(*text, path);
 }
 
 std::string FormatPieceConfig(const PieceConfig& config) {

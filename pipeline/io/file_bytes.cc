@@ -32,7 +32,8 @@ Result<FileStamp> StatFile(const std::string& path) {
 }
 
 Result<FileBytes> ReadFileBytes(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: opening a FIFO without a writer returns at once; it is then refused below.
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return FileIoError(path, "cannot open", errno);
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
@@ -54,7 +55,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
       // Probe for more data than fstat said.
       char probe;
       ssize_t n = ::read(fd, &probe, 1);
-      if (n < 0 && errno == EINTR) continue;
+      if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
       if (n < 0) {
         Status s = FileIoError(path, "read failed", errno);
         ::close(fd);
@@ -70,7 +71,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
       continue;
     }
     ssize_t n = ::read(fd, out.data.get() + out.size, capacity - out.size);
-    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (n < 0) {
       Status s = FileIoError(path, "read failed", errno);
       ::close(fd);

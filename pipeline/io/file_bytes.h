@@ -18,7 +18,8 @@ struct FileBytes {
   std::string_view view() const { return {data.get(), size}; }
 };
 
-// The whole file. kIoError naming `path` if it cannot be opened or read, or is a directory.
+// The whole file. kIoError naming `path` if it cannot be opened or read, or is not a regular
+// file (a FIFO, device or directory is refused without blocking).
 Result<FileBytes> ReadFileBytes(const std::string& path);
 
 // Size and modification time (ns since the epoch) of a regular file.
