@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
 #include "testpieces/named_pieces.h"
@@ -32,7 +33,7 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
   try {
     return node.as<T>();
   } catch (const YAML::Exception&) {
-    return ParseErrorAt(source, node, "'" + key + "': expected " + expected);
+    return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected);
   }
 }
 
@@ -64,13 +65,9 @@ Status PipelineConfig::Validate() const {
   return Status::Ok();
 }
 
-Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
-  }
+// The settings of a loaded pipeline document; yaml-cpp throws on node kinds the code does not
+// expect (a map as a key), which the caller turns into a parse error.
+static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) return Status(StatusCode::kParseError, "expected a map of settings (tpcal.pipeline/1)", source, 1);
   PipelineConfig c;
   c.source = source;
@@ -78,13 +75,13 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     const YAML::Node& v = kv.second;
-    if (!seen.insert(key).second) return ParseErrorAt(source, kv.first, "duplicate key '" + key + "'");
+    if (!seen.insert(key).second) return ParseErrorAt(source, kv.first, "duplicate key '" + EchoInput(key) + "'");
     auto str = [&]() { return As<std::string>(source, v, key, "a string"); };
     if (key == "schema") {
       auto s = str();
       if (!s.ok()) return s.status();
       if (*s != "tpcal.pipeline/1")
-        return ParseErrorAt(source, v, "schema '" + *s + "' is not tpcal.pipeline/1");
+        return ParseErrorAt(source, v, "schema '" + EchoInput(*s) + "' is not tpcal.pipeline/1");
     } else if (key == "testpiece") {
       auto s = str();
       if (!s.ok()) return s.status();
@@ -131,7 +128,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
           c.monte_carlo_trials = *n;
         } else {
           return ParseErrorAt(source, u.first,
-                              "unknown key 'uncertainty." + k +
+                              "unknown key 'uncertainty." + EchoInput(k) +
                                   "' (expected primary, jackknife_groups, monte_carlo_trials)");
         }
       }
@@ -154,7 +151,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
             return ParseErrorAt(source, r.second, "'anchor_near_mm': expected [x, y, z] (mm) or []");
           }
         } else {
-          return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + k + "' (expected anchor_feature, anchor_near_mm)");
+          return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + EchoInput(k) + "' (expected anchor_feature, anchor_near_mm)");
         }
       }
     } else if (key == "scan_cells") {
@@ -171,7 +168,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
           (k == "max_cell_mm" ? c.scan_cells.max_cell_mm : c.scan_cells.max_cell_deg) = *d;
         } else {
           return ParseErrorAt(source, r.first,
-                              "unknown key 'scan_cells." + k +
+                              "unknown key 'scan_cells." + EchoInput(k) +
                                   "' (expected above_points, target_cells, max_cell_mm, max_cell_deg)");
         }
       }
@@ -181,7 +178,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
         const std::string k = r.first.as<std::string>();
         if (k != "position_magnification" && k != "profile_magnification")
           return ParseErrorAt(source, r.first,
-                              "unknown key 'report." + k +
+                              "unknown key 'report." + EchoInput(k) +
                                   "' (expected position_magnification, profile_magnification)");
         auto d = As<double>(source, r.second, k, "a number");
         if (!d.ok()) return d.status();
@@ -189,12 +186,27 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
       }
     } else {
       return ParseErrorAt(source, kv.first,
-                          "unknown key '" + key +
+                          "unknown key '" + EchoInput(key) +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
                               "diagnose, truth, raw_scan, scan_cells, report, out)");
     }
   }
   return c;
+}
+
+Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
+  }
+  try {
+    return ParsePipelineRoot(root, source);
+  } catch (const YAML::Exception& e) {
+    return Status(StatusCode::kParseError, "YAML: " + e.msg, source,
+                  e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line) + 1);
+  }
 }
 
 Result<PipelineConfig> LoadPipelineConfig(const std::string& path) {

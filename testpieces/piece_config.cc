@@ -11,6 +11,7 @@
 #include <sstream>
 #include <variant>
 
+#include "core/input_echo.h"
 #include "core/text_file.h"
 
 namespace tpcal::testpieces {
@@ -184,7 +185,7 @@ class Parser {
     for (const auto& kv : node) {
       if (!kv.first.IsScalar()) return Error(kv.first, where + ": keys must be plain names");
       const std::string key = kv.first.Scalar();
-      if (!seen.insert(key).second) return Error(kv.first, where + ": duplicate key '" + key + "'");
+      if (!seen.insert(key).second) return Error(kv.first, where + ": duplicate key '" + EchoInput(key) + "'");
       out.emplace_back(kv.first, kv.second);
     }
     return out;
@@ -201,14 +202,14 @@ class Parser {
             double v = 0;
             const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
             if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v)) {
-              return Error(value, path + ": expected a finite number, got '" + text + "'");
+              return Error(value, path + ": expected a finite number, got '" + EchoInput(text) + "'");
             }
             target->*member = v;
           } else if constexpr (std::is_same_v<M, int>) {
             long long v = 0;
             const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
             if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < -1000000000 || v > 1000000000) {
-              return Error(value, path + ": expected an integer, got '" + text + "'");
+              return Error(value, path + ": expected an integer, got '" + EchoInput(text) + "'");
             }
             target->*member = static_cast<int>(v);
           } else if constexpr (std::is_same_v<M, bool>) {
@@ -217,7 +218,7 @@ class Parser {
             } else if (text == "false") {
               target->*member = false;
             } else {
-              return Error(value, path + ": expected true or false, got '" + text + "'");
+              return Error(value, path + ": expected true or false, got '" + EchoInput(text) + "'");
             }
           } else {
             target->*member = text;
@@ -247,7 +248,7 @@ class Parser {
       } else if (is_group) {
         TPCAL_RETURN_IF_ERROR(Fill(v, path + ".", section, table, target, skip));
       } else {
-        return Error(k, "unknown key '" + section + "." + path + "'" + Expected(table, prefix));
+        return Error(k, "unknown key '" + section + "." + EchoInput(path) + "'" + Expected(table, prefix));
       }
     }
     return Status::Ok();
@@ -295,7 +296,7 @@ class Parser {
                                                "cone_frustum", "probing", "process"};
     for (const auto& kv : *entries) {
       if (!kTop.count(kv.first.Scalar())) {
-        return Error(kv.first, "unknown key '" + kv.first.Scalar() +
+        return Error(kv.first, "unknown key '" + EchoInput(kv.first.Scalar()) +
                                    "' (expected schema, piece, turning, iso10791_m1, iso10791_m2, cone_frustum, "
                                    "probing, process)");
       }
@@ -345,7 +346,7 @@ class Parser {
       config.params = p;
     } else {
       return Error(by_key["piece"].second,
-                   "piece: expected turning, iso10791_m1, iso10791_m2 or cone_frustum, got '" + piece + "'");
+                   "piece: expected turning, iso10791_m1, iso10791_m2 or cone_frustum, got '" + EchoInput(piece) + "'");
     }
     if (by_key.count("probing") && !by_key["probing"].second.IsNull()) {
       TPCAL_RETURN_IF_ERROR(Fill(by_key["probing"].second, "", "probing", ProbingTable(), &config.probing));
