@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "core/input_echo.h"
 #include "core/status.h"
+#include "core/text_file.h"
 
 namespace tpcal::kinematics::yaml_internal {
 
@@ -41,7 +43,7 @@ inline Result<std::vector<MapEntry>> Entries(const std::string& source, const YA
     if (!it->first.IsScalar()) return Error(source, it->first, what + ": keys must be plain names");
     const std::string key = it->first.Scalar();
     if (!seen.insert(key).second) {
-      return Error(source, it->first, what + ": duplicate key '" + key + "'");
+      return Error(source, it->first, what + ": duplicate key '" + EchoInput(key) + "'");
     }
     out.push_back(MapEntry{key, it->first, it->second});
   }
@@ -55,7 +57,7 @@ inline Status CheckKeys(const std::string& source, const std::vector<MapEntry>& 
     if (!allowed.count(e.key)) {
       std::string list;
       for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      return Error(source, e.key_node, "unknown key '" + e.key + "' in " + what + " (expected: " + list + ")");
+      return Error(source, e.key_node, "unknown key '" + EchoInput(e.key) + "' in " + what + " (expected: " + list + ")");
     }
   }
   return Status::Ok();
@@ -74,7 +76,7 @@ inline Result<double> Double(const std::string& source, const YAML::Node& n, con
   try {
     v = n.as<double>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected a number, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected a number, got '" + EchoInput(n.Scalar()) + "'");
   }
   if (!std::isfinite(v)) return Error(source, n, what + ": expected a finite number");
   return v;
@@ -85,7 +87,7 @@ inline Result<int> Int(const std::string& source, const YAML::Node& n, const std
   try {
     return n.as<int>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected an integer, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected an integer, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -94,7 +96,7 @@ inline Result<bool> Bool(const std::string& source, const YAML::Node& n, const s
   try {
     return n.as<bool>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected true or false, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected true or false, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -136,13 +138,7 @@ inline Result<YAML::Node> Parse(const std::string& text, const std::string& sour
   }
 }
 
-inline Result<std::string> ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read file", path);
-  return ss.str();
-}
+// A FIFO or device is refused without blocking; above 16 MiB is an error (core/text_file.h).
+inline Result<std::string> ReadFile(const std::string& path) { return ReadTextFile(path, "cannot open file"); }
 
 }  // namespace tpcal::kinematics::yaml_internal
