@@ -152,6 +152,33 @@ Status CheckPcdCompressed(std::string_view data, std::uint64_t need, const std::
   return Status::Ok();
 }
 
+// PCL's header loop does not stop at DATA: it goes on reading "lines" of the data, skipping empty
+// lines and `#` comments, and re-reads any that begins with a header keyword (binary data that
+// starts with "COUNT" changes the field counts, and PCL then reads out of bounds). The first word
+// of the first such line must therefore not be a keyword; returns it if it is, else "".
+std::string_view PcdKeywordInData(std::string_view data) {
+  static constexpr std::string_view kKeywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT",
+                                                   "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; };
+  std::size_t pos = 0;
+  while (pos < data.size()) {
+    const std::size_t nl = data.find('\n', pos);
+    const std::string_view line = data.substr(pos, (nl == std::string_view::npos ? data.size() : nl) - pos);
+    pos = nl == std::string_view::npos ? data.size() : nl + 1;
+    if (line.empty()) continue;
+    std::size_t b = 0;
+    while (b < line.size() && space(line[b])) ++b;
+    std::size_t e = b;
+    while (e < line.size() && !space(line[e])) ++e;
+    const std::string_view word = line.substr(b, e - b);
+    if (!word.empty() && word.front() == '#') continue;
+    for (std::string_view k : kKeywords)
+      if (word.substr(0, k.size()) == k) return k;
+    return {};
+  }
+  return {};
+}
+
 }  // namespace
 
 Status CheckPcdBytes(std::string_view bytes, const std::string& path) {
@@ -249,6 +276,9 @@ Status CheckPcdBytes(std::string_view bytes, const std::string& path) {
   if (points == 0) return header_error("the header declares no points");
   std::uint64_t point_bytes = 0;
   for (const PcdField& f : fields) point_bytes += f.size * f.count;
+  if (const std::string_view k = PcdKeywordInData(bytes.substr(lines.pos())); !k.empty())
+    return header_error(fmt::format("the data after DATA begins a line with '{}', which PCL would read as "
+                                    "a header line; expected the data only", k));
   if (data_kind == "ascii") return CheckPcdAscii(lines, fields, points, path);
   const std::string_view data = bytes.substr(lines.pos());
   const std::uint64_t need = points * point_bytes;  // < 2^31 * 2^26: no overflow

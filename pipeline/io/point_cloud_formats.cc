@@ -313,7 +313,7 @@ Result<PointFile> ParsePointXyz(std::string_view text, const std::string& source
 
 Result<PointFile> ReadPointXyz(const std::string& path, const PointReadOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
-  Result<FileBytes> bytes = ReadFileBytes(path);
+  Result<FileBytes> bytes = ReadFileBytes(path, internal::kMaxLineBytes);
   if (!bytes.ok()) return bytes.status();
   return ParsePointXyz(bytes->view(), path, options);
 }

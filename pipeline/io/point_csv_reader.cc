@@ -30,7 +30,6 @@ constexpr double kZeroNormalLength = 1e-12;  // below this a normal has no direc
 constexpr double kAlreadyUnit = 1e-14;
 constexpr std::size_t kMaxEcho = 40;  // characters of a bad cell quoted in a message
 // Hostile sizes fail at the line at fault before memory grows with them (docs/formats/points.md).
-constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 constexpr std::size_t kMaxColumns = 1024;
 // Coordinates beyond this (1000 km) are not measurements; their squares would overflow the fits.
 constexpr double kMaxAbsCoordinateMm = 1e9;
@@ -88,9 +87,7 @@ inline bool ParseNumber(const char* b, const char* e, double* out) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-std::string LineTooLong(std::size_t bytes) {
-  return fmt::format("line of {} bytes; expected at most {} bytes per line", bytes, kMaxLineBytes);
-}
+std::string LineTooLong() { return LongLineMessage(kMaxLineBytes); }
 
 // A line that holds only blanks and separators (spreadsheets export empty rows as ",,,,").
 bool OnlySeparators(std::string_view line) {
@@ -384,7 +381,7 @@ class ChunkParser {
       const char* le = nl ? nl : end;
       const char* next = nl ? nl + 1 : end;
       if (static_cast<std::size_t>(le - p) > kMaxLineBytes) {
-        out_->error = LineTooLong(static_cast<std::size_t>(le - p));
+        out_->error = LineTooLong();
         out_->failed = true;
         out_->error_line = li_;
         out_->lines = li_;
@@ -610,7 +607,7 @@ Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
     const std::size_t le = nl == std::string_view::npos ? text.size() : nl;
     const std::size_t next = nl == std::string_view::npos ? text.size() : nl + 1;
     std::string_view line = text.substr(pos, le - pos);
-    if (line.size() > kMaxLineBytes) return error(LineTooLong(line.size()), line_no);
+    if (line.size() > kMaxLineBytes) return error(LineTooLong(), line_no);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.find('\r') != std::string_view::npos)
       return error("line ends are bare CR characters (classic Mac); expected LF or CRLF", line_no);
@@ -874,7 +871,7 @@ Result<PointFile> ParsePointCsv(std::string_view text, const std::string& source
 
 Result<PointFile> ReadPointCsv(const std::string& path, const PointReadOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
-  Result<FileBytes> bytes = ReadFileBytes(path);
+  Result<FileBytes> bytes = ReadFileBytes(path, internal::kMaxLineBytes);
   if (!bytes.ok()) return bytes.status();
   return ParsePointCsv(bytes->view(), path, options);
 }
