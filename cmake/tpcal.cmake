@@ -22,6 +22,18 @@ if(TPCAL_UNITY_BUILD)
   set(CMAKE_UNITY_BUILD_BATCH_SIZE ${TPCAL_UNITY_BATCH})
 endif()
 
+# Fuzzing (README, "Fuzzing"): every target instrumented for libFuzzer's coverage and checked by
+# ASan/UBSan; the fuzz_* executables under tests/fuzz link libFuzzer's main.
+if(TPCAL_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "TPCAL_FUZZ needs clang (-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang)")
+  endif()
+  # Line tables are enough for the findings' stack traces and compile far faster than full -g.
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+    -fno-sanitize-recover=undefined -gline-tables-only)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 if(TPCAL_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
