@@ -35,6 +35,7 @@ class CloudLines {
     const std::size_t nl = bytes_.find('\n', pos_);
     const std::size_t end = nl == std::string_view::npos ? bytes_.size() : nl;
     *line = bytes_.substr(pos_, end - pos_);
+    raw_empty_ = line->empty();
     if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
     pos_ = nl == std::string_view::npos ? bytes_.size() : nl + 1;
     ++line_no_;
@@ -42,11 +43,13 @@ class CloudLines {
   }
   std::size_t line_no() const { return line_no_; }  // of the line last returned
   std::size_t pos() const { return pos_; }            // byte after the line last returned
+  bool raw_empty() const { return raw_empty_; }       // it had no byte at all (not even '\r')
 
  private:
   std::string_view bytes_;
   std::size_t pos_;
   std::size_t line_no_ = 0;
+  bool raw_empty_ = false;
 };
 
 std::vector<std::string_view> CloudTokens(std::string_view line) {
@@ -194,7 +197,10 @@ Status CheckPcdBytes(std::string_view bytes, const std::string& path) {
   std::string_view line;
   while (data_kind.empty() && lines.Next(&line)) {
     const std::vector<std::string_view> tok = CloudTokens(line);
-    if (tok.empty() || tok[0].front() == '#') continue;
+    if (lines.raw_empty()) continue;
+    // PCL ends its header at a line of blanks (or a lone CR) and then reads no fields at all.
+    if (tok.empty()) return error("a line of blanks in the header; expected header lines up to DATA");
+    if (tok[0].front() == '#') continue;
     const std::string_view key = tok[0];
     static const std::set<std::string_view> kKeys = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE",
                                                     "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
