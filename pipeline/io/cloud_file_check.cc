@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <pcl/io/lzf.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
@@ -313,6 +314,13 @@ struct PlyProperty {
   // Scalar: the value is signed; list: the length is.
 };
 
+// PCL sizes the cloud from `obj_info num_cols/num_rows` and a camera element's viewportx/viewporty
+// when they are given (and allocates that many points): the values seen, to bound them.
+struct PlyGrid {
+  double cols = -1, rows = -1;          // obj_info num_cols / num_rows
+  double viewport_x = -1, viewport_y = -1;  // element camera
+};
+
 struct PlyElement {
   std::string_view name;
   std::uint64_t count = 0;
@@ -348,8 +356,34 @@ std::uint64_t PlyListLength(const char* p, int size, bool is_signed, bool big_en
   return v;
 }
 
+double PlyBinaryScalar(const char* p, const PlyProperty& prop, bool big_endian) {
+  unsigned char b[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < prop.size; ++i) b[i] = static_cast<unsigned char>(p[big_endian ? prop.size - 1 - i : i]);
+  if (prop.real) {
+    if (prop.size == 4) {
+      float f;
+      std::memcpy(&f, b, 4);
+      return f;
+    }
+    double d;
+    std::memcpy(&d, b, 8);
+    return d;
+  }
+  std::uint64_t v = 0;
+  for (int i = prop.size - 1; i >= 0; --i) v = (v << 8) | b[i];
+  if (!prop.is_signed) return static_cast<double>(v);
+  const int shift = 64 - 8 * prop.size;  // sign-extend
+  return static_cast<double>(static_cast<std::int64_t>(v << shift) >> shift);
+}
+
+void PlyNoteCamera(const PlyElement& e, const PlyProperty& p, double value, PlyGrid* grid) {
+  if (e.name != "camera") return;
+  if (p.name == "viewportx") grid->viewport_x = value;
+  if (p.name == "viewporty") grid->viewport_y = value;
+}
+
 Status CheckPlyBinary(std::string_view data, const std::vector<PlyElement>& elements, bool big_endian,
-                      const std::string& path) {
+                      const std::string& path, PlyGrid* grid) {
   std::size_t pos = 0;
   for (const PlyElement& e : elements) {
     auto short_data = [&](std::uint64_t i) {
@@ -364,7 +398,7 @@ Status CheckPlyBinary(std::string_view data, const std::vector<PlyElement>& elem
       has_list = has_list || p.count_size != 0;
       row += static_cast<std::uint64_t>(p.count_size != 0 ? p.count_size : p.size);
     }
-    if (!has_list) {
+    if (!has_list && e.name != "camera") {
       const std::uint64_t need = row * e.count;  // < 2^10 * 8 * 2^31: no overflow
       if (data.size() - pos < need) return short_data((data.size() - pos) / row);
       pos += need;
@@ -374,6 +408,7 @@ Status CheckPlyBinary(std::string_view data, const std::vector<PlyElement>& elem
       for (const PlyProperty& p : e.properties) {
         if (p.count_size == 0) {
           if (data.size() - pos < static_cast<std::size_t>(p.size)) return short_data(i);
+          PlyNoteCamera(e, p, PlyBinaryScalar(data.data() + pos, p, big_endian), grid);
           pos += static_cast<std::size_t>(p.size);
           continue;
         }
@@ -400,7 +435,8 @@ bool PlyValue(std::string_view token, const PlyProperty& p) {
   return CloudInteger(token, &v);
 }
 
-Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, const std::string& path) {
+Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, const std::string& path,
+                     PlyGrid* grid) {
   std::string_view line;
   for (const PlyElement& e : elements) {
     for (std::uint64_t i = 0; i < e.count; ++i) {
@@ -432,6 +468,11 @@ Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, 
           if (!PlyValue(tok[t], p))
             return error(fmt::format("{} row: property '{}' expects {}, got '{}'", EchoInput(e.name),
                                      EchoInput(p.name), p.real ? "a number" : "an integer", EchoInput(tok[t])));
+          if (p.count_size == 0) {
+            double v = 0;
+            fast_float::from_chars(tok[t].data() + (tok[t].front() == '+'), tok[t].data() + tok[t].size(), v);
+            PlyNoteCamera(e, p, v, grid);
+          }
         }
       }
       if (t != tok.size())
@@ -458,13 +499,23 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
   if (!lines.Next(&line) || line != "ply") return error("the first line is not 'ply'; expected a PLY file");
   std::string_view format;
   std::vector<PlyElement> elements;
+  PlyGrid grid;
   std::size_t n_properties = 0;
   bool ended = false;
   while (!ended && lines.Next(&line)) {
     const std::vector<std::string_view> tok = CloudTokens(line);
     if (tok.empty()) return error("blank line in the PLY header");
     const std::string_view key = tok[0];
-    if (key == "comment" || key == "obj_info") continue;
+    if (key == "comment") continue;
+    if (key == "obj_info") {
+      if (tok.size() >= 2 && (tok[1] == "num_cols" || tok[1] == "num_rows")) {
+        std::uint64_t v = 0;
+        if (tok.size() != 3 || !CloudUnsigned(tok[2], kCloudMaxPoints, &v))
+          return error(fmt::format("expected 'obj_info {} COUNT' with a count from 0 to {}", tok[1], kCloudMaxPoints));
+        (tok[1] == "num_cols" ? grid.cols : grid.rows) = static_cast<double>(v);
+      }
+      continue;
+    }
     if (key == "end_header") {
       if (tok.size() != 1) return error("text after end_header");
       ended = true;
@@ -482,6 +533,8 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
         return error(fmt::format("expected 'element NAME COUNT' with a count from 0 to {}", kCloudMaxPoints));
       for (const PlyElement& e : elements)
         if (e.name == tok[1]) return error(fmt::format("element '{}' declared twice", EchoInput(tok[1])));
+      if (tok[1] == "range_grid")
+        return error("organized PLY clouds (element range_grid) are not supported; expected a list of vertices");
       elements.push_back(PlyElement{tok[1], count, lines.line_no(), {}});
     } else if (key == "property") {
       if (elements.empty()) return error("property before any element");
@@ -538,8 +591,22 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
   }
   if (vertex->count == 0)
     return Status(StatusCode::kParseError, "the vertex element declares no points", path, vertex->line);
-  if (format == "ascii") return CheckPlyAscii(lines, elements, path);
-  return CheckPlyBinary(bytes.substr(lines.pos()), elements, format == "binary_big_endian", path);
+  const std::size_t header_end_line = lines.line_no();
+  TPCAL_RETURN_IF_ERROR(format == "ascii"
+                            ? CheckPlyAscii(lines, elements, path, &grid)
+                            : CheckPlyBinary(bytes.substr(lines.pos()), elements, format == "binary_big_endian", path,
+                                             &grid));
+  // PCL allocates width x height points when obj_info num_cols/num_rows or the camera viewport
+  // give them: never more than the vertices present.
+  const double width = std::max({1.0, grid.cols, grid.viewport_x});
+  const double height = std::max({1.0, grid.rows, grid.viewport_y});
+  if (!(width * height <= static_cast<double>(vertex->count)))
+    return Status(StatusCode::kParseError,
+                  fmt::format("the grid of {:g} x {:g} points (obj_info num_cols/num_rows, camera viewportx/viewporty) "
+                              "exceeds the {} vertices; expected a grid of the vertices",
+                              width, height, vertex->count),
+                  path, header_end_line);
+  return Status::Ok();
 }
 
 }  // namespace tpcal::pipeline::internal
