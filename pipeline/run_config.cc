@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <set>
+#include <type_traits>
 
 #include "core/input_echo.h"
 #include "core/text_file.h"
@@ -28,13 +29,33 @@ std::string Resolve(const std::string& source, const std::string& path) {
   return (fs::path(source).parent_path() / path).lexically_normal().string();
 }
 
+// Text values (paths, names) reach messages, config.yaml and result.json: printable UTF-8 of at
+// most kMaxConfigTextBytes.
+constexpr std::size_t kMaxConfigTextBytes = 4096;
+bool PrintableText(const std::string& s) {
+  if (s.size() > kMaxConfigTextBytes || FirstInvalidUtf8(s) != std::string_view::npos) return false;
+  for (char c : s)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return false;
+  return true;
+}
+
 template <typename T>
 Result<T> As(const std::string& source, const YAML::Node& node, const std::string& key, const char* expected) {
+  T value;
   try {
-    return node.as<T>();
+    value = node.as<T>();
   } catch (const YAML::Exception&) {
     return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected);
   }
+  bool printable = true;
+  if constexpr (std::is_same_v<T, std::string>) printable = PrintableText(value);
+  if constexpr (std::is_same_v<T, std::vector<std::string>>)
+    for (const std::string& v : value) printable = printable && PrintableText(v);
+  if (!printable)
+    return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected +
+                                          " in printable UTF-8 of at most " +
+                                          std::to_string(kMaxConfigTextBytes) + " bytes");
+  return value;
 }
 
 }  // namespace
