@@ -398,7 +398,7 @@ Status CheckPlyBinary(std::string_view data, const std::vector<PlyElement>& elem
       has_list = has_list || p.count_size != 0;
       row += static_cast<std::uint64_t>(p.count_size != 0 ? p.count_size : p.size);
     }
-    if (!has_list && e.name != "camera") {
+    if (!has_list && (e.name != "camera" || row == 0)) {
       const std::uint64_t need = row * e.count;  // < 2^10 * 8 * 2^31: no overflow
       if (data.size() - pos < need) return short_data((data.size() - pos) / row);
       pos += need;
@@ -574,12 +574,8 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
   if (!ended) return Status(StatusCode::kParseError, "the PLY header has no end_header line", path, lines.line_no());
   if (format.empty()) return error("the PLY header has no format line");
   const PlyElement* vertex = nullptr;
-  for (const PlyElement& e : elements) {
-    if (e.properties.empty())
-      return Status(StatusCode::kParseError, fmt::format("element '{}' has no properties", EchoInput(e.name)),
-                    path, e.line);
+  for (const PlyElement& e : elements)
     if (e.name == "vertex") vertex = &e;
-  }
   if (!vertex) return error("the PLY header declares no vertex element");
   for (const char* axis : {"x", "y", "z"}) {
     bool found = false;
@@ -596,14 +592,14 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
                             ? CheckPlyAscii(lines, elements, path, &grid)
                             : CheckPlyBinary(bytes.substr(lines.pos()), elements, format == "binary_big_endian", path,
                                              &grid));
-  // PCL allocates width x height points when obj_info num_cols/num_rows or the camera viewport
-  // give them: never more than the vertices present.
-  const double width = std::max({1.0, grid.cols, grid.viewport_x});
-  const double height = std::max({1.0, grid.rows, grid.viewport_y});
-  if (!(width * height <= static_cast<double>(vertex->count)))
+  // PCL sizes the cloud width x height when obj_info num_cols/num_rows or the camera viewport
+  // give both (PCL's own writer does), and allocates that many points: they must be the vertices.
+  const double width = std::max(grid.cols, grid.viewport_x);
+  const double height = std::max(grid.rows, grid.viewport_y);
+  if (width > 0 && height > 0 && width * height != static_cast<double>(vertex->count))
     return Status(StatusCode::kParseError,
-                  fmt::format("the grid of {:g} x {:g} points (obj_info num_cols/num_rows, camera viewportx/viewporty) "
-                              "exceeds the {} vertices; expected a grid of the vertices",
+                  fmt::format("a grid of {:g} x {:g} points (obj_info num_cols/num_rows, camera viewportx/viewporty) "
+                              "for {} vertices; expected a grid of the vertices",
                               width, height, vertex->count),
                   path, header_end_line);
   return Status::Ok();
