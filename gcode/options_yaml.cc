@@ -1,5 +1,6 @@
 #include "gcode/options_yaml.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -252,6 +253,8 @@ Result<GcodeOptions> ParseGcodeOptions(std::string_view yaml_text, const std::st
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::Exception& e) {

@@ -1,5 +1,6 @@
 #include "gdt/plan_yaml.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -370,6 +371,8 @@ Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::str
   try {
     const YAML::Node root = YAML::Load(std::string(text));
     return ParseDocument(rd, root);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::Exception& e) {
     const std::size_t line = e.mark.line < 0 ? 0 : static_cast<std::size_t>(e.mark.line) + 1;
     return Status(StatusCode::kParseError, "YAML: " + e.msg, source, line);

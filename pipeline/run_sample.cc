@@ -1,5 +1,6 @@
 #include "pipeline/run_sample.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -31,6 +32,8 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
   YAML::Node root;
   try {
     root = YAML::Load(*text);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", path, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, e.msg, path, static_cast<std::size_t>(e.mark.line) + 1);
   }

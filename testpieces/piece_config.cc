@@ -1,5 +1,6 @@
 #include "testpieces/piece_config.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
@@ -283,6 +284,8 @@ class Parser {
     YAML::Node root;
     try {
       root = YAML::Load(std::string(text));
+    } catch (const YAML::DeepRecursion& e) {
+      return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source_, static_cast<std::size_t>(e.mark.line + 1));
     } catch (const YAML::ParserException& e) {
       return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source_, static_cast<std::size_t>(e.mark.line + 1));
     }
