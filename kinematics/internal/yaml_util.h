@@ -3,6 +3,7 @@
 // line of the offending node.
 #pragma once
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
@@ -28,6 +29,16 @@ inline Status Error(const std::string& source, const YAML::Node& n, const std::s
   return Status(StatusCode::kParseError, message, source, Line(n));
 }
 
+// Keys and text values reach messages (and names reach reports): printable UTF-8, bounded.
+inline constexpr std::size_t kMaxKeyBytes = 128;
+inline constexpr std::size_t kMaxTextBytes = 256;
+inline bool Printable(const std::string& s, std::size_t max_bytes) {
+  if (s.size() > max_bytes || FirstInvalidUtf8(s) != std::string::npos) return false;
+  for (char c : s)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) return false;
+  return true;
+}
+
 // Keys of a map in document order, with their key nodes (for line numbers).
 struct MapEntry {
   std::string key;
@@ -42,6 +53,9 @@ inline Result<std::vector<MapEntry>> Entries(const std::string& source, const YA
   for (auto it = map.begin(); it != map.end(); ++it) {
     if (!it->first.IsScalar()) return Error(source, it->first, what + ": keys must be plain names");
     const std::string key = it->first.Scalar();
+    if (!Printable(key, kMaxKeyBytes))
+      return Error(source, it->first, what + ": key '" + EchoInput(key) + "': expected a printable name of at most " +
+                                          std::to_string(kMaxKeyBytes) + " bytes");
     if (!seen.insert(key).second) {
       return Error(source, it->first, what + ": duplicate key '" + EchoInput(key) + "'");
     }
@@ -103,6 +117,9 @@ inline Result<bool> Bool(const std::string& source, const YAML::Node& n, const s
 inline Result<std::string> String(const std::string& source, const YAML::Node& n,
                                   const std::string& what) {
   if (!n.IsScalar()) return Error(source, n, what + ": expected a text value");
+  if (!Printable(n.Scalar(), kMaxTextBytes))
+    return Error(source, n, what + ": '" + EchoInput(n.Scalar()) + "': expected printable text of at most " +
+                                std::to_string(kMaxTextBytes) + " bytes");
   return n.Scalar();
 }
 
@@ -130,6 +147,10 @@ inline Result<Eigen::Vector3d> Vector3(const std::string& source, const YAML::No
 inline Result<YAML::Node> Parse(const std::string& text, const std::string& source) {
   try {
     return YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a "
+                  "configuration, not nested lists or maps", source,
+                  e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source,
                   e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
