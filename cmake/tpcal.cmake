@@ -22,6 +22,19 @@ if(TPCAL_UNITY_BUILD)
   set(CMAKE_UNITY_BUILD_BATCH_SIZE ${TPCAL_UNITY_BATCH})
 endif()
 
+# Fuzzing (README, "Fuzzing"): every target instrumented for libFuzzer's coverage and checked by
+# ASan/UBSan; the fuzz_* executables under tests/fuzz link libFuzzer's main.
+if(TPCAL_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "TPCAL_FUZZ needs clang (-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang)")
+  endif()
+  # -O1 and line tables (enough for the findings' stack traces) compile far faster than
+  # RelWithDebInfo's -O2 -g on the Eigen/CGAL/Ceres code the readers link.
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+    -fno-sanitize-recover=undefined -O1 -gline-tables-only)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 if(TPCAL_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
@@ -45,6 +58,10 @@ function(tpcal_add_library name)
   target_include_directories(tpcal_${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(tpcal_${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   tpcal_warnings(tpcal_${name})
+  if(TPCAL_FUZZ AND name STREQUAL "fitting")
+    # No reader and no fuzz target runs its code (it is only linked): -O0 halves the fuzz build.
+    target_compile_options(tpcal_${name} PRIVATE -O0)
+  endif()
 endfunction()
 
 # tpcal_add_tests(NAME [DEPS targets...]): NAME/*_test.cc into one gtest binary NAME_tests,

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/input_echo.h"
 #include "gcode/internal/gstyle_lexer.h"
 
 namespace tpcal::gcode {
@@ -95,7 +96,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
     if (o.dialect == Dialect::kFanuc && t[0] == 'O') continue;  // program number
     if (sinumerik && (t.rfind("%_N_", 0) == 0 || t[0] == ';')) continue;
     const LexedBlock b = LexBlock(t, semicolon, sinumerik);
-    if (!b.error.empty()) return BadBlock(line, b.error + ": '" + t + "'");
+    if (!b.error.empty()) return BadBlock(line, b.error + ": '" + EchoInput(t) + "'");
     if (b.comment_only) continue;
     st.label = b.label;
     for (const std::string& kw : b.keywords) {
@@ -116,7 +117,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
         }
         args.push_back(cur);
         if (args.size() < 8 || args[0].empty() || args[1].empty() || args[2].empty() || args[3].empty()) {
-          return BadBlock(line, "CYCLE85 needs RTP, RFP, SDIS, DP: '" + kw + "'");
+          return BadBlock(line, "CYCLE85 needs RTP, RFP, SDIS, DP: '" + EchoInput(kw) + "'");
         }
         const double rtp = ToD(args[0]), rfp = ToD(args[1]), sdis = ToD(args[2]), dp = ToD(args[3]);
         st.Ream(rfp + sdis, dp, rtp);
@@ -124,7 +125,7 @@ Result<NcPath> ReadGStyle(std::string_view text, const GcodeOptions& o) {
                  kw.rfind("SCC[", 0) == 0 || (kw.size() > 3 && kw[0] == 'M' && kw.find('=') != std::string::npos)) {
         // spindle statements: no motion
       } else {
-        return BadBlock(line, "unknown statement '" + kw + "'");
+        return BadBlock(line, "unknown statement '" + EchoInput(kw) + "'");
       }
     }
     bool dwell = false, cycle_block = false;
@@ -299,7 +300,7 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
           call = true;
         } else if (w[0] == 'M') {
         } else {
-          return BadBlock(line, "unexpected word '" + w + "'");
+          return BadBlock(line, "unexpected word '" + EchoInput(w) + "'");
         }
       }
       if (head == "C") {
@@ -317,7 +318,7 @@ Result<NcPath> ReadHeidenhain(std::string_view text, const GcodeOptions& o) {
       }
       continue;
     }
-    return BadBlock(line, "unknown block '" + code + "'");
+    return BadBlock(line, "unknown block '" + EchoInput(code) + "'");
   }
   return std::move(st.path);
 }

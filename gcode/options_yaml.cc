@@ -1,14 +1,16 @@
 #include "gcode/options_yaml.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "core/input_echo.h"
+#include "core/text_file.h"
 #include "gcode/nc_format.h"
 
 namespace tpcal::gcode {
@@ -29,7 +31,7 @@ Result<std::vector<std::pair<std::string, YAML::Node>>> Entries(const std::strin
   std::set<std::string> seen;
   for (auto it = n.begin(); it != n.end(); ++it) {
     const std::string key = it->first.as<std::string>();
-    if (!seen.insert(key).second) return Err(src, it->first, what + ": duplicate key '" + key + "'");
+    if (!seen.insert(key).second) return Err(src, it->first, what + ": duplicate key '" + EchoInput(key) + "'");
     out.emplace_back(key, it->second);
   }
   return out;
@@ -42,7 +44,7 @@ Result<double> Double(const std::string& src, const YAML::Node& n, const std::st
     if (!std::isfinite(v)) return Err(src, n, key + ": expected a finite number");
     return v;
   } catch (const YAML::Exception&) {
-    return Err(src, n, key + ": expected a number, got '" + n.Scalar() + "'");
+    return Err(src, n, key + ": expected a number, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -51,7 +53,7 @@ Result<int> Int(const std::string& src, const YAML::Node& n, const std::string& 
   try {
     return n.as<int>();
   } catch (const YAML::Exception&) {
-    return Err(src, n, key + ": expected an integer, got '" + n.Scalar() + "'");
+    return Err(src, n, key + ": expected an integer, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -60,7 +62,7 @@ Result<bool> Bool(const std::string& src, const YAML::Node& n, const std::string
   try {
     return n.as<bool>();
   } catch (const YAML::Exception&) {
-    return Err(src, n, key + ": expected true or false, got '" + n.Scalar() + "'");
+    return Err(src, n, key + ": expected true or false, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -111,7 +113,7 @@ Status ApplyMap(const std::string& src, const YAML::Node& node, const std::strin
   auto entries = Entries(src, node, prefix.empty() ? "gcode options" : prefix);
   if (!entries.ok()) return entries.status();
   for (const auto& [key, value] : *entries) {
-    const std::string full = prefix.empty() ? key : prefix + "." + key;
+    const std::string full = EchoInput(prefix.empty() ? key : prefix + "." + key);
     auto it = setters.find(key);
     if (it == setters.end()) {
       std::string known;
@@ -138,13 +140,13 @@ Result<GcodeOptions> Parse(const std::string& src, const YAML::Node& root) {
       auto s = String(src, value, "dialect");
       if (!s.ok()) return s.status();
       const auto d = DialectFromName(*s);
-      if (!d) return Err(src, value, "dialect: expected fanuc, linuxcnc, sinumerik or heidenhain, got '" + *s + "'");
+      if (!d) return Err(src, value, "dialect: expected fanuc, linuxcnc, sinumerik or heidenhain, got '" + EchoInput(*s) + "'");
       dialect = *d;
     }
     if (key == "schema") {
       auto s = String(src, value, "schema");
       if (!s.ok()) return s.status();
-      if (*s != kSchema) return Err(src, value, std::string("schema: expected ") + kSchema + ", got '" + *s + "'");
+      if (*s != kSchema) return Err(src, value, std::string("schema: expected ") + kSchema + ", got '" + EchoInput(*s) + "'");
     }
   }
   GcodeOptions o = GcodeOptions::ForDialect(dialect);
@@ -172,7 +174,7 @@ Result<GcodeOptions> Parse(const std::string& src, const YAML::Node& root) {
         return Status::Ok();
       }
     }
-    return Err(s, n, key + ": expected off, flood or mist, got '" + *v + "'");
+    return Err(s, n, key + ": expected off, flood or mist, got '" + EchoInput(*v) + "'");
   };
   top["five_axis"] = [&o](const std::string& s, const YAML::Node& n, const std::string& key) -> Status {
     auto v = String(s, n, key);
@@ -183,7 +185,7 @@ Result<GcodeOptions> Parse(const std::string& src, const YAML::Node& root) {
         return Status::Ok();
       }
     }
-    return Err(s, n, key + ": expected joint_inverse_time or tcp, got '" + *v + "'");
+    return Err(s, n, key + ": expected joint_inverse_time or tcp, got '" + EchoInput(*v) + "'");
   };
   top["tools"] = [&o](const std::string& s, const YAML::Node& n, const std::string& key) -> Status {
     if (!n.IsSequence()) return Err(s, n, key + ": expected a list of {piece_tool, number, length_mm}");
@@ -251,6 +253,8 @@ Result<GcodeOptions> ParseGcodeOptions(std::string_view yaml_text, const std::st
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::Exception& e) {
@@ -264,12 +268,9 @@ Result<GcodeOptions> ParseGcodeOptions(std::string_view yaml_text, const std::st
 }
 
 Result<GcodeOptions> LoadGcodeOptions(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open gcode options file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read gcode options file", path);
-  return ParseGcodeOptions(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open gcode options file");
+  if (!text.ok()) return text.status();
+  return ParseGcodeOptions(*text, path);
 }
 
 std::string FormatGcodeOptions(const GcodeOptions& o) {

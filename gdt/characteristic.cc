@@ -184,7 +184,9 @@ Status EvalCircularity(const CharacteristicSpec& s, const FittedFeature& f, std:
   const std::vector<RadialDeviation> profile = CircularityProfile(uv, circle);
   const double ls = ProfileRange(profile);
   const FormCriterion criterion = s.criterion.value_or(f.criterion);
-  auto value = FormValue(criterion, f, ls, out, [&] { return MinimumZoneCircularity(uv); });
+  // A reference, not the binding: clang before 16 cannot capture structured bindings.
+  const auto& uv_points = uv;
+  auto value = FormValue(criterion, f, ls, out, [&] { return MinimumZoneCircularity(uv_points); });
   if (!value.ok()) return value.status();
   out->criterion = criterion;
   b.Um("circularity_um", *value);

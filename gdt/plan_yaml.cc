@@ -1,18 +1,24 @@
 #include "gdt/plan_yaml.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <set>
-#include <sstream>
 #include <vector>
+
+#include "core/input_echo.h"
+#include "core/text_file.h"
 
 namespace tpcal::gdt {
 namespace {
 
 constexpr const char* kSchema = "tpcal.inspection_plan/1";
+// Names (features, characteristics, nominals, references) and free text: they reach messages
+// and JSON, so they are printable UTF-8 of bounded length.
+constexpr std::size_t kMaxNameBytes = 128;
+constexpr std::size_t kMaxTextBytes = 4096;
 
 class Reader {
  public:
@@ -37,16 +43,23 @@ class Reader {
       if (!allowed.contains(key)) {
         std::string list;
         for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        return Error(kv.first, what + ": unknown key '" + key + "' (allowed: " + list + ")");
+        return Error(kv.first, what + ": unknown key '" + EchoInput(key) + "' (allowed: " + list + ")");
       }
-      if (!seen.insert(key).second) return Error(kv.first, what + ": key '" + key + "' given twice");
+      if (!seen.insert(key).second) return Error(kv.first, what + ": key '" + EchoInput(key) + "' given twice");
     }
     return Status::Ok();
   }
 
-  Result<std::string> String(const YAML::Node& n, const std::string& what) const {
+  Result<std::string> String(const YAML::Node& n, const std::string& what,
+                             std::size_t max_bytes = kMaxNameBytes) const {
     if (!n.IsScalar()) return Error(n, what + ": expected a text value");
-    return n.Scalar();
+    const std::string& s = n.Scalar();
+    bool printable = FirstInvalidUtf8(s) == std::string_view::npos;
+    for (char c : s) printable = printable && !((static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') || c == 0x7F);
+    if (!printable || s.size() > max_bytes)
+      return Error(n, what + ": '" + EchoInput(s) + "': expected printable UTF-8 text of at most " +
+                          std::to_string(max_bytes) + " bytes");
+    return s;
   }
 
   Result<double> Number(const YAML::Node& n, const std::string& what) const {
@@ -55,7 +68,7 @@ class Reader {
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      return Error(n, what + ": expected a number, got '" + n.Scalar() + "'");
+      return Error(n, what + ": expected a number, got '" + EchoInput(n.Scalar()) + "'");
     }
     if (!std::isfinite(v)) return Error(n, what + ": expected a finite number");
     return v;
@@ -125,7 +138,7 @@ Result<AxisSense> ParseSense(const Reader& rd, const YAML::Node& n, const std::s
   if (n.size() != 1) return rd.Error(n, what + ": give one of away_from, toward");
   const auto kv = *n.begin();
   s.rule = kv.first.Scalar() == "away_from" ? AxisSense::Rule::kAwayFrom : AxisSense::Rule::kToward;
-  TPCAL_ASSIGN_OR_RETURN(s.feature, rd.String(kv.second, what + " " + kv.first.Scalar()));
+  TPCAL_ASSIGN_OR_RETURN(s.feature, rd.String(kv.second, what + " " + EchoInput(kv.first.Scalar())));
   return s;
 }
 
@@ -261,7 +274,7 @@ Result<CharacteristicSpec> ParseCharacteristic(const Reader& rd, const YAML::Nod
   TPCAL_ASSIGN_OR_RETURN(c.feature, rd.String(n["feature"], what + " feature"));
   if (n["datum"]) TPCAL_ASSIGN_OR_RETURN(c.datum, rd.String(n["datum"], what + " datum"));
   if (n["symbol"]) TPCAL_ASSIGN_OR_RETURN(c.symbol, rd.String(n["symbol"], what + " symbol"));
-  if (n["description"]) TPCAL_ASSIGN_OR_RETURN(c.description, rd.String(n["description"], what + " description"));
+  if (n["description"]) TPCAL_ASSIGN_OR_RETURN(c.description, rd.String(n["description"], what + " description", kMaxTextBytes));
   if (n["plane"])
     TPCAL_ASSIGN_OR_RETURN(c.plane, rd.Enum<Projection>(n["plane"], what + " plane", ParseProjection,
                                                         "datum_xy, datum_yz, datum_zx"));
@@ -308,7 +321,7 @@ Result<InspectionPlan> ParseDocument(const Reader& rd, const YAML::Node& root) {
   if (schema != kSchema)
     return rd.Error(root["schema"], "plan schema: '" + schema + "' is not supported, expected " + kSchema);
   if (root["name"]) TPCAL_ASSIGN_OR_RETURN(plan.name, rd.String(root["name"], "plan name"));
-  if (root["description"]) TPCAL_RETURN_IF_ERROR(rd.String(root["description"], "plan description"));
+  if (root["description"]) TPCAL_RETURN_IF_ERROR(rd.String(root["description"], "plan description", kMaxTextBytes));
   if (root["nominals"]) {
     const YAML::Node nominals = root["nominals"];
     if (!nominals.IsMap()) return rd.Error(nominals, "nominals: expected a map of name_unit: number");
@@ -358,6 +371,8 @@ Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::str
   try {
     const YAML::Node root = YAML::Load(std::string(text));
     return ParseDocument(rd, root);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::Exception& e) {
     const std::size_t line = e.mark.line < 0 ? 0 : static_cast<std::size_t>(e.mark.line) + 1;
     return Status(StatusCode::kParseError, "YAML: " + e.msg, source, line);
@@ -365,12 +380,9 @@ Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::str
 }
 
 Result<InspectionPlan> LoadInspectionPlan(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open inspection plan", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read inspection plan", path);
-  return ParseInspectionPlan(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open inspection plan");
+  if (!text.ok()) return text.status();
+  return ParseInspectionPlan(*text, path);
 }
 
 }  // namespace tpcal::gdt

@@ -574,7 +574,7 @@ Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* erro
   }
   for (auto& [symbol, p] : powers) {
     const bool exists = std::any_of(errors->terms().begin(), errors->terms().end(),
-                                    [&](const ErrorTerm& t) { return t.label == symbol; });
+                                    [&label = symbol](const ErrorTerm& t) { return t.label == label; });
     if (exists) continue;  // SelectCoefficients names the power that term lacks
     std::sort(p.begin(), p.end());
     p.erase(std::unique(p.begin(), p.end()), p.end());

@@ -1,12 +1,14 @@
 #include "pipeline/run_config.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
+#include <type_traits>
 
+#include "core/input_echo.h"
+#include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
@@ -28,13 +30,33 @@ std::string Resolve(const std::string& source, const std::string& path) {
   return (fs::path(source).parent_path() / path).lexically_normal().string();
 }
 
+// Text values (paths, names) reach messages, config.yaml and result.json: printable UTF-8 of at
+// most kMaxConfigTextBytes.
+constexpr std::size_t kMaxConfigTextBytes = 4096;
+bool PrintableText(const std::string& s) {
+  if (s.size() > kMaxConfigTextBytes || FirstInvalidUtf8(s) != std::string_view::npos) return false;
+  for (char c : s)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return false;
+  return true;
+}
+
 template <typename T>
 Result<T> As(const std::string& source, const YAML::Node& node, const std::string& key, const char* expected) {
+  T value;
   try {
-    return node.as<T>();
+    value = node.as<T>();
   } catch (const YAML::Exception&) {
-    return ParseErrorAt(source, node, "'" + key + "': expected " + expected);
+    return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected);
   }
+  bool printable = true;
+  if constexpr (std::is_same_v<T, std::string>) printable = PrintableText(value);
+  if constexpr (std::is_same_v<T, std::vector<std::string>>)
+    for (const std::string& v : value) printable = printable && PrintableText(v);
+  if (!printable)
+    return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected +
+                                          " in printable UTF-8 of at most " +
+                                          std::to_string(kMaxConfigTextBytes) + " bytes");
+  return value;
 }
 
 }  // namespace
@@ -65,13 +87,9 @@ Status PipelineConfig::Validate() const {
   return Status::Ok();
 }
 
-Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
-  }
+// The settings of a loaded pipeline document; yaml-cpp throws on node kinds the code does not
+// expect (a map as a key), which the caller turns into a parse error.
+static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) return Status(StatusCode::kParseError, "expected a map of settings (tpcal.pipeline/1)", source, 1);
   PipelineConfig c;
   c.source = source;
@@ -79,13 +97,13 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     const YAML::Node& v = kv.second;
-    if (!seen.insert(key).second) return ParseErrorAt(source, kv.first, "duplicate key '" + key + "'");
+    if (!seen.insert(key).second) return ParseErrorAt(source, kv.first, "duplicate key '" + EchoInput(key) + "'");
     auto str = [&]() { return As<std::string>(source, v, key, "a string"); };
     if (key == "schema") {
       auto s = str();
       if (!s.ok()) return s.status();
       if (*s != "tpcal.pipeline/1")
-        return ParseErrorAt(source, v, "schema '" + *s + "' is not tpcal.pipeline/1");
+        return ParseErrorAt(source, v, "schema '" + EchoInput(*s) + "' is not tpcal.pipeline/1");
     } else if (key == "testpiece") {
       auto s = str();
       if (!s.ok()) return s.status();
@@ -132,7 +150,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
           c.monte_carlo_trials = *n;
         } else {
           return ParseErrorAt(source, u.first,
-                              "unknown key 'uncertainty." + k +
+                              "unknown key 'uncertainty." + EchoInput(k) +
                                   "' (expected primary, jackknife_groups, monte_carlo_trials)");
         }
       }
@@ -155,7 +173,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
             return ParseErrorAt(source, r.second, "'anchor_near_mm': expected [x, y, z] (mm) or []");
           }
         } else {
-          return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + k + "' (expected anchor_feature, anchor_near_mm)");
+          return ParseErrorAt(source, r.first, "unknown key 'raw_scan." + EchoInput(k) + "' (expected anchor_feature, anchor_near_mm)");
         }
       }
     } else if (key == "scan_cells") {
@@ -172,7 +190,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
           (k == "max_cell_mm" ? c.scan_cells.max_cell_mm : c.scan_cells.max_cell_deg) = *d;
         } else {
           return ParseErrorAt(source, r.first,
-                              "unknown key 'scan_cells." + k +
+                              "unknown key 'scan_cells." + EchoInput(k) +
                                   "' (expected above_points, target_cells, max_cell_mm, max_cell_deg)");
         }
       }
@@ -182,7 +200,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
         const std::string k = r.first.as<std::string>();
         if (k != "position_magnification" && k != "profile_magnification")
           return ParseErrorAt(source, r.first,
-                              "unknown key 'report." + k +
+                              "unknown key 'report." + EchoInput(k) +
                                   "' (expected position_magnification, profile_magnification)");
         auto d = As<double>(source, r.second, k, "a number");
         if (!d.ok()) return d.status();
@@ -190,7 +208,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
       }
     } else {
       return ParseErrorAt(source, kv.first,
-                          "unknown key '" + key +
+                          "unknown key '" + EchoInput(key) +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
                               "diagnose, truth, raw_scan, scan_cells, report, out)");
     }
@@ -198,12 +216,27 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
   return c;
 }
 
+Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line) + 1);
+  } catch (const YAML::ParserException& e) {
+    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
+  }
+  try {
+    return ParsePipelineRoot(root, source);
+  } catch (const YAML::Exception& e) {  // a list or map where a name or value belongs
+    return Status(StatusCode::kParseError, "expected plain names and values of tpcal.pipeline/1 (YAML: " + e.msg + ")",
+                  source, e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line) + 1);
+  }
+}
+
 Result<PipelineConfig> LoadPipelineConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open pipeline file", path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ParsePipelineConfig(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot open pipeline file");
+  if (!text.ok()) return text.status();
+  return ParsePipelineConfig(*text, path);
 }
 
 std::string FormatPipelineConfig(const PipelineConfig& c) {

@@ -1,12 +1,12 @@
 #include "pipeline/run_sample.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
+#include "core/text_file.h"
 #include "kinematics/errors_yaml.h"
 
 namespace tpcal::pipeline {
@@ -27,13 +27,13 @@ std::string ResolveTruthPath(const std::string& source, const std::string& path)
 }  // namespace
 
 Result<SampleTruth> LoadSampleTruth(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open truth file", path);
-  std::stringstream ss;
-  ss << in.rdbuf();
+  Result<std::string> text = ReadTextFile(path, "cannot open truth file");
+  if (!text.ok()) return text.status();
   YAML::Node root;
   try {
-    root = YAML::Load(ss.str());
+    root = YAML::Load(*text);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", path, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, e.msg, path, static_cast<std::size_t>(e.mark.line) + 1);
   }

@@ -1,16 +1,19 @@
 #include "testpieces/piece_config.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <variant>
+
+#include "core/input_echo.h"
+#include "core/text_file.h"
 
 namespace tpcal::testpieces {
 namespace {
@@ -183,7 +186,7 @@ class Parser {
     for (const auto& kv : node) {
       if (!kv.first.IsScalar()) return Error(kv.first, where + ": keys must be plain names");
       const std::string key = kv.first.Scalar();
-      if (!seen.insert(key).second) return Error(kv.first, where + ": duplicate key '" + key + "'");
+      if (!seen.insert(key).second) return Error(kv.first, where + ": duplicate key '" + EchoInput(key) + "'");
       out.emplace_back(kv.first, kv.second);
     }
     return out;
@@ -200,14 +203,14 @@ class Parser {
             double v = 0;
             const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
             if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v)) {
-              return Error(value, path + ": expected a finite number, got '" + text + "'");
+              return Error(value, path + ": expected a finite number, got '" + EchoInput(text) + "'");
             }
             target->*member = v;
           } else if constexpr (std::is_same_v<M, int>) {
             long long v = 0;
             const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
             if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < -1000000000 || v > 1000000000) {
-              return Error(value, path + ": expected an integer, got '" + text + "'");
+              return Error(value, path + ": expected an integer, got '" + EchoInput(text) + "'");
             }
             target->*member = static_cast<int>(v);
           } else if constexpr (std::is_same_v<M, bool>) {
@@ -216,7 +219,7 @@ class Parser {
             } else if (text == "false") {
               target->*member = false;
             } else {
-              return Error(value, path + ": expected true or false, got '" + text + "'");
+              return Error(value, path + ": expected true or false, got '" + EchoInput(text) + "'");
             }
           } else {
             target->*member = text;
@@ -246,7 +249,7 @@ class Parser {
       } else if (is_group) {
         TPCAL_RETURN_IF_ERROR(Fill(v, path + ".", section, table, target, skip));
       } else {
-        return Error(k, "unknown key '" + section + "." + path + "'" + Expected(table, prefix));
+        return Error(k, "unknown key '" + section + "." + EchoInput(path) + "'" + Expected(table, prefix));
       }
     }
     return Status::Ok();
@@ -281,6 +284,8 @@ class Parser {
     YAML::Node root;
     try {
       root = YAML::Load(std::string(text));
+    } catch (const YAML::DeepRecursion& e) {
+      return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source_, static_cast<std::size_t>(e.mark.line + 1));
     } catch (const YAML::ParserException& e) {
       return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source_, static_cast<std::size_t>(e.mark.line + 1));
     }
@@ -294,7 +299,7 @@ class Parser {
                                                "cone_frustum", "probing", "process"};
     for (const auto& kv : *entries) {
       if (!kTop.count(kv.first.Scalar())) {
-        return Error(kv.first, "unknown key '" + kv.first.Scalar() +
+        return Error(kv.first, "unknown key '" + EchoInput(kv.first.Scalar()) +
                                    "' (expected schema, piece, turning, iso10791_m1, iso10791_m2, cone_frustum, "
                                    "probing, process)");
       }
@@ -344,7 +349,7 @@ class Parser {
       config.params = p;
     } else {
       return Error(by_key["piece"].second,
-                   "piece: expected turning, iso10791_m1, iso10791_m2 or cone_frustum, got '" + piece + "'");
+                   "piece: expected turning, iso10791_m1, iso10791_m2 or cone_frustum, got '" + EchoInput(piece) + "'");
     }
     if (by_key.count("probing") && !by_key["probing"].second.IsNull()) {
       TPCAL_RETURN_IF_ERROR(Fill(by_key["probing"].second, "", "probing", ProbingTable(), &config.probing));
@@ -422,11 +427,9 @@ Result<PieceConfig> ParsePieceConfig(std::string_view yaml_text, const std::stri
 }
 
 Result<PieceConfig> LoadPieceConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot read the test-piece config", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ParsePieceConfig(ss.str(), path);
+  Result<std::string> text = ReadTextFile(path, "cannot read the test-piece config");
+  if (!text.ok()) return text.status();
+  return ParsePieceConfig(*text, path);
 }
 
 std::string FormatPieceConfig(const PieceConfig& config) {

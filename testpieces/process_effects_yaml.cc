@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/input_echo.h"
 #include "kinematics/internal/yaml_util.h"
 
 namespace tpcal::testpieces {
@@ -60,7 +61,7 @@ Result<ProcessEffects> ParseProcessEffects(std::string_view yaml_text, const std
   if (const y::MapEntry* e = y::Find(*entries, "schema")) {
     auto s = y::String(source, e->value, "schema");
     TPCAL_RETURN_IF_ERROR(s);
-    if (*s != kProcessSchema) return y::Error(source, e->value, std::string("schema: expected ") + kProcessSchema + ", got '" + *s + "'");
+    if (*s != kProcessSchema) return y::Error(source, e->value, std::string("schema: expected ") + kProcessSchema + ", got '" + EchoInput(*s) + "'");
   }
   if (const y::MapEntry* e = y::Find(*entries, "tool_deflection")) {
     ToolDeflectionModel d;

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/input_echo.h"
+
 namespace tpcal::gcode::internal {
 
 struct Word {
@@ -108,7 +110,7 @@ inline LexedBlock LexBlock(std::string_view line, bool semicolon_comments, bool 
     if (i >= code.size()) break;
     const char c = code[i];
     if (!std::isalpha(static_cast<unsigned char>(c))) {
-      b.error = std::string("unexpected character '") + c + "'";
+      b.error = "unexpected character '" + EchoInput(std::string_view(&c, 1)) + "'";
       return b;
     }
     // Keyword: letters followed by more letters / '=' / '(' / '['.

@@ -3,6 +3,7 @@
 // line of the offending node.
 #pragma once
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
@@ -13,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "core/input_echo.h"
 #include "core/status.h"
+#include "core/text_file.h"
 
 namespace tpcal::kinematics::yaml_internal {
 
@@ -24,6 +27,16 @@ inline std::size_t Line(const YAML::Node& n) {
 
 inline Status Error(const std::string& source, const YAML::Node& n, const std::string& message) {
   return Status(StatusCode::kParseError, message, source, Line(n));
+}
+
+// Keys and text values reach messages (and names reach reports): printable UTF-8, bounded.
+inline constexpr std::size_t kMaxKeyBytes = 128;
+inline constexpr std::size_t kMaxTextBytes = 256;
+inline bool Printable(const std::string& s, std::size_t max_bytes) {
+  if (s.size() > max_bytes || FirstInvalidUtf8(s) != std::string::npos) return false;
+  for (char c : s)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) return false;
+  return true;
 }
 
 // Keys of a map in document order, with their key nodes (for line numbers).
@@ -40,8 +53,11 @@ inline Result<std::vector<MapEntry>> Entries(const std::string& source, const YA
   for (auto it = map.begin(); it != map.end(); ++it) {
     if (!it->first.IsScalar()) return Error(source, it->first, what + ": keys must be plain names");
     const std::string key = it->first.Scalar();
+    if (!Printable(key, kMaxKeyBytes))
+      return Error(source, it->first, what + ": key '" + EchoInput(key) + "': expected a printable name of at most " +
+                                          std::to_string(kMaxKeyBytes) + " bytes");
     if (!seen.insert(key).second) {
-      return Error(source, it->first, what + ": duplicate key '" + key + "'");
+      return Error(source, it->first, what + ": duplicate key '" + EchoInput(key) + "'");
     }
     out.push_back(MapEntry{key, it->first, it->second});
   }
@@ -55,7 +71,7 @@ inline Status CheckKeys(const std::string& source, const std::vector<MapEntry>& 
     if (!allowed.count(e.key)) {
       std::string list;
       for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      return Error(source, e.key_node, "unknown key '" + e.key + "' in " + what + " (expected: " + list + ")");
+      return Error(source, e.key_node, "unknown key '" + EchoInput(e.key) + "' in " + what + " (expected: " + list + ")");
     }
   }
   return Status::Ok();
@@ -74,7 +90,7 @@ inline Result<double> Double(const std::string& source, const YAML::Node& n, con
   try {
     v = n.as<double>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected a number, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected a number, got '" + EchoInput(n.Scalar()) + "'");
   }
   if (!std::isfinite(v)) return Error(source, n, what + ": expected a finite number");
   return v;
@@ -85,7 +101,7 @@ inline Result<int> Int(const std::string& source, const YAML::Node& n, const std
   try {
     return n.as<int>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected an integer, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected an integer, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
@@ -94,13 +110,16 @@ inline Result<bool> Bool(const std::string& source, const YAML::Node& n, const s
   try {
     return n.as<bool>();
   } catch (const YAML::Exception&) {
-    return Error(source, n, what + ": expected true or false, got '" + n.Scalar() + "'");
+    return Error(source, n, what + ": expected true or false, got '" + EchoInput(n.Scalar()) + "'");
   }
 }
 
 inline Result<std::string> String(const std::string& source, const YAML::Node& n,
                                   const std::string& what) {
   if (!n.IsScalar()) return Error(source, n, what + ": expected a text value");
+  if (!Printable(n.Scalar(), kMaxTextBytes))
+    return Error(source, n, what + ": '" + EchoInput(n.Scalar()) + "': expected printable text of at most " +
+                                std::to_string(kMaxTextBytes) + " bytes");
   return n.Scalar();
 }
 
@@ -128,6 +147,10 @@ inline Result<Eigen::Vector3d> Vector3(const std::string& source, const YAML::No
 inline Result<YAML::Node> Parse(const std::string& text, const std::string& source) {
   try {
     return YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a "
+                  "configuration, not nested lists or maps", source,
+                  e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
   } catch (const YAML::ParserException& e) {
     return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source,
                   e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
@@ -136,13 +159,7 @@ inline Result<YAML::Node> Parse(const std::string& text, const std::string& sour
   }
 }
 
-inline Result<std::string> ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, "cannot open file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, "cannot read file", path);
-  return ss.str();
-}
+// A FIFO or device is refused without blocking; above 16 MiB is an error (core/text_file.h).
+inline Result<std::string> ReadFile(const std::string& path) { return ReadTextFile(path, "cannot open file"); }
 
 }  // namespace tpcal::kinematics::yaml_internal

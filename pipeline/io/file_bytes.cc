@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -18,6 +19,32 @@ Status FileIoError(const std::string& path, const char* what, int err) {
   return Status(StatusCode::kIoError, fmt::format("{}: {}", what, std::strerror(err)), path);
 }
 
+// Blocks read between two line-length checks.
+constexpr std::size_t kLineCheckBlock = std::size_t{4} << 20;
+
+// Tracks the start and number of the current line over bytes read so far.
+struct LineLengthScan {
+  std::size_t scanned = 0;
+  std::size_t line_start = 0;
+  std::size_t line_no = 1;
+  // False if the line in progress (or one completed in [scanned, size)) exceeds max_bytes.
+  bool Scan(const char* data, std::size_t size, std::size_t max_bytes) {
+    while (scanned < size) {
+      const void* nl = std::memchr(data + scanned, '\n', size - scanned);
+      if (!nl) {
+        scanned = size;
+        break;
+      }
+      const std::size_t at = static_cast<std::size_t>(static_cast<const char*>(nl) - data);
+      if (at - line_start > max_bytes) return false;
+      line_start = at + 1;
+      scanned = at + 1;
+      ++line_no;
+    }
+    return size - line_start <= max_bytes;
+  }
+};
+
 }  // namespace
 
 Result<FileStamp> StatFile(const std::string& path) {
@@ -31,8 +58,14 @@ Result<FileStamp> StatFile(const std::string& path) {
   return stamp;
 }
 
-Result<FileBytes> ReadFileBytes(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+std::string LongLineMessage(std::size_t max_line_bytes) {
+  return fmt::format("line longer than {} bytes; expected at most {} bytes per line", max_line_bytes,
+                     max_line_bytes);
+}
+
+Result<FileBytes> ReadFileBytes(const std::string& path, std::size_t max_line_bytes) {
+  // O_NONBLOCK: opening a FIFO without a writer returns at once; it is then refused below.
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return FileIoError(path, "cannot open", errno);
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
@@ -45,6 +78,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
     return Status(StatusCode::kIoError, "not a regular file", path);
   }
   FileBytes out;
+  LineLengthScan lines;
   std::size_t capacity = static_cast<std::size_t>(st.st_size);
   out.data = std::make_unique_for_overwrite<char[]>(capacity + 1);
   AdviseHugePages(out.data.get(), capacity + 1);
@@ -54,7 +88,7 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
       // Probe for more data than fstat said.
       char probe;
       ssize_t n = ::read(fd, &probe, 1);
-      if (n < 0 && errno == EINTR) continue;
+      if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
       if (n < 0) {
         Status s = FileIoError(path, "read failed", errno);
         ::close(fd);
@@ -69,8 +103,10 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
       capacity = new_capacity;
       continue;
     }
-    ssize_t n = ::read(fd, out.data.get() + out.size, capacity - out.size);
-    if (n < 0 && errno == EINTR) continue;
+    const std::size_t want = max_line_bytes == 0 ? capacity - out.size
+                                                 : std::min(capacity - out.size, kLineCheckBlock);
+    ssize_t n = ::read(fd, out.data.get() + out.size, want);
+    if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (n < 0) {
       Status s = FileIoError(path, "read failed", errno);
       ::close(fd);
@@ -78,6 +114,10 @@ Result<FileBytes> ReadFileBytes(const std::string& path) {
     }
     if (n == 0) break;
     out.size += static_cast<std::size_t>(n);
+    if (max_line_bytes > 0 && !lines.Scan(out.data.get(), out.size, max_line_bytes)) {
+      ::close(fd);
+      return Status(StatusCode::kParseError, LongLineMessage(max_line_bytes), path, lines.line_no);
+    }
   }
   ::close(fd);
   out.data[out.size] = '\0';

@@ -18,8 +18,14 @@ struct FileBytes {
   std::string_view view() const { return {data.get(), size}; }
 };
 
-// The whole file. kIoError naming `path` if it cannot be opened or read, or is a directory.
-Result<FileBytes> ReadFileBytes(const std::string& path);
+// The whole file. kIoError naming `path` if it cannot be opened or read, or is not a regular
+// file (a FIFO, device or directory is refused without blocking). With max_line_bytes > 0 (text),
+// a line longer than that is a kParseError at its line as soon as it is read, so a huge file
+// of one line fails after max_line_bytes + 4 MiB of reading, not after all of it.
+Result<FileBytes> ReadFileBytes(const std::string& path, std::size_t max_line_bytes = 0);
+
+// The message of a line longer than `max_line_bytes` (shared by the readers that check it).
+std::string LongLineMessage(std::size_t max_line_bytes);
 
 // Size and modification time (ns since the epoch) of a regular file.
 struct FileStamp {

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -17,6 +18,7 @@
 
 #include "core/units.h"
 #include "pipeline/io/atomic_file.h"
+#include "pipeline/io/cloud_file_check.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/io/point_text_parser.h"
@@ -26,6 +28,7 @@ namespace {
 
 constexpr double kCloudZeroNormalLength = 1e-12;  // as in the CSV reader
 constexpr double kCloudAlreadyUnit = 1e-14;
+constexpr double kCloudMaxAbsCoordinateMm = 1e9;  // as in the CSV reader
 
 // PCL prints warnings and errors to the console; libraries here never print. Not thread-safe
 // (PCL's verbosity is a global), like PCL's own I/O.
@@ -130,6 +133,9 @@ Result<PointFile> FromCloud(const pcl::PCLPointCloud2& cloud, const std::string&
                                  "finite x,y,z (set skip_nonfinite_points to drop such points)",
                                  index));
       }
+      if (std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])}) * scale > kCloudMaxAbsCoordinateMm)
+        return error(fmt::format("point {} (0-based) is beyond {:g} mm from the origin; expected "
+                                 "coordinates of a measured piece", index, kCloudMaxAbsCoordinateMm));
       if (has_normals) {
         Eigen::Vector3d nrm;
         for (int k = 0; k < 3; ++k)
@@ -158,12 +164,20 @@ Result<PointFile> FromCloud(const pcl::PCLPointCloud2& cloud, const std::string&
   return file;
 }
 
+// PCL reads the file only after tpcal has checked all of it (cloud_file_check.h): PCL's readers
+// trust header sizes and crash or allocate without bound on damaged files.
 template <typename LoadFn>
 Result<PointFile> LoadWithPcl(const std::string& path, PointFormat format,
                               const PointReadOptions& options, LoadFn load) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
-  Result<FileStamp> stamp = StatFile(path);
-  if (!stamp.ok()) return stamp.status();
+  std::uint64_t file_bytes = 0;
+  {
+    Result<FileBytes> bytes = ReadFileBytes(path);
+    if (!bytes.ok()) return bytes.status();
+    file_bytes = bytes->size;
+    TPCAL_RETURN_IF_ERROR(format == PointFormat::kPly ? internal::CheckPlyBytes(bytes->view(), path)
+                                                      : internal::CheckPcdBytes(bytes->view(), path));
+  }
   pcl::PCLPointCloud2 cloud;
   int rc = -1;
   try {
@@ -179,7 +193,7 @@ Result<PointFile> LoadWithPcl(const std::string& path, PointFormat format,
                   fmt::format("PCL could not read the file as {} (damaged or not a {} file)",
                               PointFormatName(format), PointFormatName(format)),
                   path);
-  return FromCloud(cloud, path, format, stamp->size, options);
+  return FromCloud(cloud, path, format, file_bytes, options);
 }
 
 // PCL's PLY writer declares fields named normal_x/y/z as `float nx/ny/nz` whatever their type
@@ -299,7 +313,7 @@ Result<PointFile> ParsePointXyz(std::string_view text, const std::string& source
 
 Result<PointFile> ReadPointXyz(const std::string& path, const PointReadOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
-  Result<FileBytes> bytes = ReadFileBytes(path);
+  Result<FileBytes> bytes = ReadFileBytes(path, internal::kMaxLineBytes);
   if (!bytes.ok()) return bytes.status();
   return ParsePointXyz(bytes->view(), path, options);
 }

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/input_echo.h"
 #include "core/parallel.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
@@ -28,6 +29,10 @@ constexpr double kZeroNormalLength = 1e-12;  // below this a normal has no direc
 // within a few ulp of unit length, so reading a written file again changes nothing.
 constexpr double kAlreadyUnit = 1e-14;
 constexpr std::size_t kMaxEcho = 40;  // characters of a bad cell quoted in a message
+// Hostile sizes fail at the line at fault before memory grows with them (docs/formats/points.md).
+constexpr std::size_t kMaxColumns = 1024;
+// Coordinates beyond this (1000 km) are not measurements; their squares would overflow the fits.
+constexpr double kMaxAbsCoordinateMm = 1e9;
 
 enum class Role : std::uint8_t { kFeature, kX, kY, kZ, kI, kJ, kK, kAttribute, kIgnore };
 
@@ -67,8 +72,8 @@ std::string Lower(std::string_view s) {
 }
 
 std::string Echo(std::string_view cell) {
-  if (cell.size() <= kMaxEcho) return fmt::format("'{}'", cell);
-  return fmt::format("'{}...'", cell.substr(0, kMaxEcho - 3));
+  if (cell.size() <= kMaxEcho) return fmt::format("'{}'", EchoInput(cell));
+  return fmt::format("'{}...'", EchoInput(cell.substr(0, kMaxEcho - 3)));
 }
 
 // Whole-cell number: optional '+', then what std::from_chars accepts (fast_float).
@@ -81,6 +86,8 @@ inline bool ParseNumber(const char* b, const char* e, double* out) {
   auto r = fast_float::from_chars(b, e, *out);
   return r.ec == std::errc() && r.ptr == e;
 }
+
+std::string LineTooLong() { return LongLineMessage(kMaxLineBytes); }
 
 // A line that holds only blanks and separators (spreadsheets export empty rows as ",,,,").
 bool OnlySeparators(std::string_view line) {
@@ -157,7 +164,7 @@ Directive ParseComment(std::string_view body, std::string* error) {
       d.tag = PointFileKind::kPlan;
     } else {
       *error = fmt::format("unsupported format tag '{}' (this reader knows 'tpcal points v1' "
-                           "and 'tpcal plan v1')", body);
+                           "and 'tpcal plan v1')", EchoInput(body));
     }
   }
   return d;
@@ -217,6 +224,8 @@ Result<Layout> ParseHeader(std::string_view line, const std::string& source, std
   };
   std::vector<std::string_view> cells;
   if (std::string e = SplitCsv(line, &cells); !e.empty()) return error("header: " + e);
+  if (cells.size() > kMaxColumns)
+    return error(fmt::format("header has {} columns; expected at most {}", cells.size(), kMaxColumns));
   Layout layout;
   std::unordered_map<std::string, std::size_t> seen;  // lower-case name -> column
   int found[7] = {0, 0, 0, 0, 0, 0, 0};
@@ -234,7 +243,7 @@ Result<Layout> ParseHeader(std::string_view line, const std::string& source, std
                                "feature,x,y,z)", c + 1));
     }
     if (auto [it, inserted] = seen.emplace(lname, c); !inserted)
-      return error(fmt::format("duplicate header column '{}' (columns {} and {})", name,
+      return error(fmt::format("duplicate header column '{}' (columns {} and {})", EchoInput(name),
                                it->second + 1, c + 1));
     static constexpr const char* kKnown[7] = {"feature", "x", "y", "z", "i", "j", "k"};
     Role role = Role::kAttribute;
@@ -257,7 +266,7 @@ Result<Layout> ParseHeader(std::string_view line, const std::string& source, std
       const bool semicolons = cells.size() == 1 && line.find(';') != std::string_view::npos;
       return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "
                                "in any order, optionally i,j,k; got '{}'){}",
-                               kRequired[r], TrimBlanks(line),
+                               kRequired[r], EchoInput(TrimBlanks(line)),
                                semicolons ? "; the separator must be ',' not ';'" : ""));
     }
   }
@@ -273,8 +282,9 @@ Result<Layout> ParseHeader(std::string_view line, const std::string& source, std
                              "i,j,k)", have, lack));
   }
   layout.has_normals = n_normal == 3;
-  layout.expected = layout.has_normals ? "feature,x,y,z,i,j,k" : "feature,x,y,z";
-  for (const auto& a : layout.attr_names) layout.expected += "," + a;
+  std::string expected = layout.has_normals ? "feature,x,y,z,i,j,k" : "feature,x,y,z";
+  for (const auto& a : layout.attr_names) expected += "," + a;
+  layout.expected = EchoInput(expected, 2 * kMaxEchoBytes);
   return layout;
 }
 
@@ -342,7 +352,7 @@ LineResult RowError(std::string_view line, const Context& ctx, std::string cell_
 }
 
 std::string NumberError(const Layout& layout, std::size_t col, std::string_view cell) {
-  const std::string& name = layout.names[col];
+  const std::string name = EchoInput(layout.names[col]);
   if (cell.empty()) return fmt::format("column '{}': expected a number, got an empty cell", name);
   double v;
   if (ParseNumber(cell.data(), cell.data() + cell.size(), &v) && !std::isfinite(v))
@@ -370,6 +380,13 @@ class ChunkParser {
       const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
       const char* le = nl ? nl : end;
       const char* next = nl ? nl + 1 : end;
+      if (static_cast<std::size_t>(le - p) > kMaxLineBytes) {
+        out_->error = LineTooLong();
+        out_->failed = true;
+        out_->error_line = li_;
+        out_->lines = li_;
+        return;
+      }
       if (le > p && le[-1] == '\r') --le;
       if (ParseLine<D>(p, le) == LineResult::kError) {
         out_->failed = true;
@@ -402,11 +419,23 @@ class ChunkParser {
     for (auto& a : out_->attr) ReserveLarge(&a, rows);
   }
 
+  // Feature id of `name`, or kBadLabel (out_->error set) if a new name is not UTF-8: labels
+  // reach JSON reports, which hold UTF-8 only.
+  static constexpr int kBadLabel = -2;
   int Intern(std::string_view name) {
     if (name.empty()) return PointSet::kUnlabelled;
     if (have_last_ && name == last_name_) return last_id_;
     auto [it, inserted] = ids_.try_emplace(name, static_cast<int>(out_->names.size()));
-    if (inserted) out_->names.push_back(name);
+    if (inserted) {
+      if (const std::size_t bad = FirstInvalidUtf8(name); bad != std::string_view::npos) {
+        out_->error = fmt::format("feature label '{}' is not UTF-8 text (byte {} is 0x{:02X}); "
+                                  "expected UTF-8 (export the file as UTF-8)",
+                                  EchoInput(name), bad + 1, static_cast<unsigned char>(name[bad]));
+        ids_.erase(it);
+        return kBadLabel;
+      }
+      out_->names.push_back(name);
+    }
     have_last_ = true;
     last_name_ = name;
     last_id_ = it->second;
@@ -475,6 +504,7 @@ class ChunkParser {
       switch (role) {
         case Role::kFeature:
           feature = Intern(std::string_view(cb, static_cast<std::size_t>(ce - cb)));
+          if (feature == kBadLabel) return LineResult::kError;
           break;
         case Role::kAttribute: {
           const int a = layout_.attr_of_column[col];
@@ -514,7 +544,14 @@ class ChunkParser {
       if (dev > kAlreadyUnit) n /= len;
       out_->normal.push_back(n);
     }
-    out_->xyz.emplace_back(v[0] * ctx_.scale, v[1] * ctx_.scale, v[2] * ctx_.scale);
+    const Eigen::Vector3d xyz_mm(v[0] * ctx_.scale, v[1] * ctx_.scale, v[2] * ctx_.scale);
+    if (!(xyz_mm.cwiseAbs().maxCoeff() <= kMaxAbsCoordinateMm)) {
+      out_->error = fmt::format("point ({:g},{:g},{:g}) mm is beyond {:g} mm from the origin; "
+                                "expected coordinates of a measured piece",
+                                xyz_mm.x(), xyz_mm.y(), xyz_mm.z(), kMaxAbsCoordinateMm);
+      return LineResult::kError;
+    }
+    out_->xyz.push_back(xyz_mm);
     out_->feature.push_back(feature);
     out_->line.push_back(li_);
     for (std::size_t a = 0; a < row_attr_.size(); ++a) {
@@ -570,6 +607,7 @@ Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
     const std::size_t le = nl == std::string_view::npos ? text.size() : nl;
     const std::size_t next = nl == std::string_view::npos ? text.size() : nl + 1;
     std::string_view line = text.substr(pos, le - pos);
+    if (line.size() > kMaxLineBytes) return error(LineTooLong(), line_no);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.find('\r') != std::string_view::npos)
       return error("line ends are bare CR characters (classic Mac); expected LF or CRLF", line_no);
@@ -817,7 +855,7 @@ Result<PointFile> ParsePointCsv(std::string_view text, const std::string& source
 
 Result<PointFile> ReadPointCsv(const std::string& path, const PointReadOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
-  Result<FileBytes> bytes = ReadFileBytes(path);
+  Result<FileBytes> bytes = ReadFileBytes(path, internal::kMaxLineBytes);
   if (!bytes.ok()) return bytes.status();
   return ParsePointCsv(bytes->view(), path, options);
 }

@@ -8,6 +8,7 @@
 // order. The result is bit-identical to a serial parse; the first error in file order wins.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -15,6 +16,9 @@
 #include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline::internal {
+
+// Longest line of a text point file (CSV or xyz); longer is an error at that line.
+inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 
 enum class TextDialect {
   kCsv,  // contract CSV: header line, comma separated, optional quotes

@@ -1,0 +1,10 @@
+// Process effects (YAML): testpieces::ParseProcessEffects.
+#include "testpieces/process_effects_yaml.h"
+#include "tests/fuzz/fuzz_util.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace tpcal;
+  const std::string text(fuzz::AsText(data, size));
+  fuzz::CheckStatus(testpieces::ParseProcessEffects(text, "fuzz.yaml").status());
+  return 0;
+}
