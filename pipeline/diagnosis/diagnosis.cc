@@ -276,10 +276,10 @@ namespace {
 // The diagnosis; `reference_dev_um` (per observation, or null): the point reference's normal
 // deviations, subtracted from the measured ones (DiagnoseAgainstPoints).
 // The slots one linearisation writes: the base coefficients' and every machine-error candidate's.
-std::vector<Slot> DiagnosisSlotUnion(const kinematics::ErrorState& errors, const std::vector<int>& base_coefficients,
-                                     const std::vector<Slot>& candidate_slots) {
-  std::vector<Slot> slots = SlotsOf(errors, base_coefficients);
-  AddSlots(candidate_slots, &slots);
+std::vector<kinematics::ErrorSlot> DiagnosisSlotUnion(const kinematics::ErrorState& errors, const std::vector<int>& base_coefficients,
+                                     const std::vector<kinematics::ErrorSlot>& candidate_slots) {
+  std::vector<kinematics::ErrorSlot> slots = kinematics::SlotsOf(errors, base_coefficients);
+  kinematics::AddSlots(candidate_slots, &slots);
   return slots;
 }
 
@@ -330,24 +330,24 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   auto candidate_slots = CandidateSlots(piece, machine, errors, base_names, reference_mode);
   if (!candidate_slots.ok()) return candidate_slots.status();
   const std::vector<int> base_coefficients = reference_mode ? std::vector<int>{} : base_active.coefficients;
-  std::optional<SlotDesign> made;       // a linearisation made here
-  const SlotDesign* design = nullptr;   // the one in use (made, or the caller's nominal one)
+  std::optional<kinematics::SlotDesign> made;       // a linearisation made here
+  const kinematics::SlotDesign* design = nullptr;   // the one in use (made, or the caller's nominal one)
   for (int pass = 0; pass < passes; ++pass) {
-    const std::vector<Slot> slots = DiagnosisSlotUnion(errors, base_coefficients, *candidate_slots);
-    const SlotDesign* given = options.nominal_slot_design.get();
+    const std::vector<kinematics::ErrorSlot> slots = DiagnosisSlotUnion(errors, base_coefficients, *candidate_slots);
+    const kinematics::SlotDesign* given = options.nominal_slot_design.get();
     const bool use_given = pass == 0 && !reference_mode && given && given->dslot_um.rows() == n &&
-                           std::all_of(slots.begin(), slots.end(), [&](const Slot& sl) {
+                           std::all_of(slots.begin(), slots.end(), [&](const kinematics::ErrorSlot& sl) {
                              return std::find(given->slots.begin(), given->slots.end(), sl) != given->slots.end();
                            });
     if (use_given) {
       design = given;
     } else {
-      auto lin = LineariseSlots(machine, errors, slots, obs);
+      auto lin = kinematics::LineariseSlots(machine, errors, slots, obs);
       if (!lin.ok()) return lin.status();
       made = std::move(*lin);
       design = &*made;
     }
-    auto J_base = CoefficientColumns(*design, errors, base_coefficients, obs);
+    auto J_base = kinematics::CoefficientColumns(*design, errors, base_coefficients, obs);
     if (!J_base.ok()) return J_base.status();
     X0.resize(n, q_fit + 6);
     if (q_fit > 0) X0.leftCols(q_fit) = *J_base;
@@ -891,7 +891,7 @@ Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece
   auto ro = ObservationsForDiagnosis(piece, reference, &skipped_ref);
   if (!ro.ok()) return ro.status();
   // The reference's normal deviations at nominal errors, as DiagnoseImpl computes the measured ones.
-  auto lin = LineariseBySlots(machine, kinematics::ErrorState(machine), {}, ro->observations);
+  auto lin = kinematics::LineariseBySlots(machine, kinematics::ErrorState(machine), {}, ro->observations);
   if (!lin.ok()) return lin.status();
   const Eigen::VectorXd ref_dev_um = lin->measured_dev_um - lin->predicted_dev_um;
   // Reference observations per feature name, in file order.
