@@ -40,21 +40,21 @@ Result<Associated> Associate(const testpieces::TestPiece& piece, const PointSet&
 // One slot linearisation at the nominal machine for the base set and every diagnosis candidate:
 // the identification's first design (by the chain rule to its coefficients) and the diagnosis's,
 // one pass over the observations for both.
-Result<std::shared_ptr<const SlotDesign>> NominalSlotDesign(const testpieces::TestPiece& piece,
-                                                            const kinematics::MachineModel& machine,
-                                                            const kinematics::ErrorState& base,
-                                                            const kinematics::ActiveSet& active,
-                                                            const std::vector<std::string>& parameters,
-                                                            const testpieces::MeasuredObservations& obs,
-                                                            kinematics::IdentifyOptions* identify) {
+Result<std::shared_ptr<const kinematics::SlotDesign>> NominalSlotDesign(const testpieces::TestPiece& piece,
+                                                                        const kinematics::MachineModel& machine,
+                                                                        const kinematics::ErrorState& base,
+                                                                        const kinematics::ActiveSet& active,
+                                                                        const std::vector<std::string>& parameters,
+                                                                        const testpieces::MeasuredObservations& obs,
+                                                                        kinematics::IdentifyOptions* identify) {
   DiagnosisOptions diagnosis;
   diagnosis.base_parameters = parameters;
   auto slots = NominalDiagnosisSlots(piece, machine, diagnosis);
   if (!slots.ok()) return slots.status();
-  AddSlots(SlotsOf(base, active.coefficients), &*slots);
-  auto shared = LineariseSlots(machine, base, *slots, obs.observations);
+  kinematics::AddSlots(kinematics::SlotsOf(base, active.coefficients), &*slots);
+  auto shared = kinematics::LineariseSlots(machine, base, *slots, obs.observations);
   if (!shared.ok()) return shared.status();
-  auto J = CoefficientColumns(*shared, base, active.coefficients, obs.observations);
+  auto J = kinematics::CoefficientColumns(*shared, base, active.coefficients, obs.observations);
   if (!J.ok()) return J.status();
   auto lin0 = std::make_shared<kinematics::LinearDesign>();
   lin0->J_dev_params = std::move(*J);
@@ -62,7 +62,7 @@ Result<std::shared_ptr<const SlotDesign>> NominalSlotDesign(const testpieces::Te
   lin0->measured_dev_um = shared->lin.measured_dev_um;
   lin0->predicted_dev_um = shared->lin.predicted_dev_um;
   identify->initial_design = std::move(lin0);
-  return std::make_shared<const SlotDesign>(std::move(*shared));
+  return std::make_shared<const kinematics::SlotDesign>(std::move(*shared));
 }
 
 // Reports the parameters under the names asked for (seed 002 keeps "beta_ZX" where the catalog
@@ -120,7 +120,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
   first.monte_carlo_trials = 0;
   Result<Associated> obs = Status(StatusCode::kInternal, "not associated");
   Result<kinematics::IdentificationResult> id = Status(StatusCode::kInternal, "not identified");
-  std::shared_ptr<const SlotDesign> slot_design;
+  std::shared_ptr<const kinematics::SlotDesign> slot_design;
   const bool realign = options.identify.fit_alignment;
   for (int pass = 0; pass < (realign ? 2 : 1); ++pass) {
     obs = Associate(piece, measured, datum_from_cmm, options, pass == 0);

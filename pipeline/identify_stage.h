@@ -19,7 +19,7 @@
 #include "gdt/inspection.h"
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
-#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "kinematics/slot_linearisation.h"
 #include "pipeline/scan_cells.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
@@ -44,7 +44,7 @@ struct IdentifyStageResult {
   // The slot linearisation at the nominal machine of `observations` for the base set and every
   // diagnosis candidate: the final identification's first design, and the diagnosis's
   // (DiagnosisOptions::nominal_slot_design with base_parameters = parameters).
-  std::shared_ptr<const SlotDesign> nominal_slot_design;
+  std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
 };
 
 // Errors (file:line where a point is at fault): those of gdt::EvaluatePlan and

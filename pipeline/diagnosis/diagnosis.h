@@ -76,9 +76,11 @@
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
-namespace tpcal::pipeline {
+namespace tpcal::kinematics {
+struct SlotDesign;  // kinematics/slot_linearisation.h
+}  // namespace tpcal::kinematics
 
-struct SlotDesign;  // diagnosis_candidates.h
+namespace tpcal::pipeline {
 
 struct DiagnosisOptions {
   std::vector<std::string> base_parameters;     // empty: testpieces::DefaultParameterSet(piece, machine)
@@ -116,7 +118,7 @@ struct DiagnosisOptions {
   // caller already made it (tpcal run shares it with the identification; NominalDiagnosisSlots
   // says which slots it needs). Used for the first linearisation when it holds every slot needed
   // and the base is not a reference; otherwise the diagnosis makes its own.
-  std::shared_ptr<const SlotDesign> nominal_slot_design;
+  std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
   Status Validate() const;
 };
 

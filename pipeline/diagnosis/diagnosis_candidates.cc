@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numbers>
+#include <memory>
+#include <span>
+#include <utility>
 
-#include "core/parallel.h"
-#include "core/units.h"
 #include "kinematics/errors_yaml.h"
-#include "kinematics/forward_kinematics.h"
-#include "testpieces/process_effects.h"
+#include "pipeline/diagnosis/diagnosis_process_candidates.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -30,23 +29,20 @@ std::string Harmonics(int first, int last, const char* unit) {
   return h + "]";
 }
 
-std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double duration_s,
-                                      std::vector<std::pair<std::string, std::string>>* not_applicable) {
-  std::vector<MachineSpec> specs;
-  // Rotary axes: the first on the workpiece branch carries the part; the last is the spindle-like table.
-  std::vector<Axis> rotary;
-  for (Axis a : {Axis::kA, Axis::kB, Axis::kC})
-    if (m.HasAxis(a)) rotary.push_back(a);
+std::string AxisString(Axis a) {
   const std::string letters = "XYZABC";
-  auto L = [&](Axis a) { return std::string(1, letters[static_cast<std::size_t>(kinematics::AxisIndex(a))]); };
+  return std::string(1, letters[static_cast<std::size_t>(kinematics::AxisIndex(a))]);
+}
 
-  // thermal_drift
+// thermal_drift: with rotary axes, linear and exponential drift of the workpiece-branch
+// translations (and the last rotary axis' line); without, linear drift of the squareness.
+void ThermalDriftSpecs(const std::vector<Axis>& rotary, double duration_s, std::vector<MachineSpec>* specs) {
   if (!rotary.empty()) {
     std::vector<std::string> params;
-    const std::string first = L(rotary.front());
+    const std::string first = AxisString(rotary.front());
     for (const char* d : {"X", "Y", "Z"}) params.push_back(std::string("E_") + d + "0" + first);
     if (rotary.size() > 1) {
-      const std::string last = L(rotary.back());
+      const std::string last = AxisString(rotary.back());
       params.push_back("E_Y0" + last);
       params.push_back("E_Z0" + last);
     }
@@ -58,211 +54,88 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
       lin.items.push_back("{thermal_drift: {parameter: " + p + ", rate_um_per_h: 0}}");
       ex.items.push_back("{thermal_drift: {parameter: " + p + ", K_um: 0, tau_s: " + std::to_string(tau_s) + "}}");
     }
-    specs.push_back(lin);
-    specs.push_back(ex);
+    specs->push_back(lin);
+    specs->push_back(ex);
   } else {
     MachineSpec sq{"thermal_drift", "linear drift of the squareness of X, Y, Z with machining time", {}};
     for (const char* p : {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"})
       sq.items.push_back(std::string("{thermal_drift: {parameter: ") + p + ", rate_urad_per_h: 0}}");
-    specs.push_back(sq);
+    specs->push_back(sq);
   }
-  // linear_straightness
-  {
-    MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
-    MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
-    MachineSpec x{"linear_straightness", "quadratic to sextic straightness of X, Y, Z", {}};
-    const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
-    for (const char* s : syms) {
-      const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
-      const std::string i3 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [3]}}";
-      const std::string i4 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [4]}}";
-      q.items.push_back(i2);
-      c.items.push_back(i2);
-      c.items.push_back(i3);
-      c.items.push_back(i4);
-      for (int k = 2; k <= 6; ++k)
-        x.items.push_back(std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [" + std::to_string(k) + "]}}");
-    }
-    specs.push_back(q);
-    specs.push_back(c);
-    specs.push_back(x);
+}
+
+// linear_straightness (quadratic; quadratic to quartic; to sextic) and linear_positioning (scale;
+// scale and quadratic) of X, Y, Z.
+void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
+  MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
+  MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
+  MachineSpec x{"linear_straightness", "quadratic to sextic straightness of X, Y, Z", {}};
+  const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
+  for (const char* s : syms) {
+    const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
+    const std::string i3 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [3]}}";
+    const std::string i4 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [4]}}";
+    q.items.push_back(i2);
+    c.items.push_back(i2);
+    c.items.push_back(i3);
+    c.items.push_back(i4);
+    for (int k = 2; k <= 6; ++k)
+      x.items.push_back(std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [" + std::to_string(k) + "]}}");
   }
-  // linear_positioning
-  {
-    MachineSpec s1{"linear_positioning", "scale error of X, Y, Z", {}};
-    MachineSpec s2{"linear_positioning", "scale and quadratic positioning error of X, Y, Z", {}};
-    for (const char* s : {"E_XX", "E_YY", "E_ZZ"}) {
-      const std::string i1 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [1]}}";
-      const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
-      s1.items.push_back(i1);
-      s2.items.push_back(i1);
-      s2.items.push_back(i2);
-    }
-    specs.push_back(s1);
-    specs.push_back(s2);
+  specs->push_back(q);
+  specs->push_back(c);
+  specs->push_back(x);
+  MachineSpec s1{"linear_positioning", "scale error of X, Y, Z", {}};
+  MachineSpec s2{"linear_positioning", "scale and quadratic positioning error of X, Y, Z", {}};
+  for (const char* s : {"E_XX", "E_YY", "E_ZZ"}) {
+    const std::string i1 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [1]}}";
+    const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
+    s1.items.push_back(i1);
+    s2.items.push_back(i1);
+    s2.items.push_back(i2);
   }
-  // rotary_error_motion and rotary_positioning of the last rotary axis
+  specs->push_back(s1);
+  specs->push_back(s2);
+}
+
+// rotary_error_motion (radial, axial, tilt: 2 to 5 lobes) and rotary_positioning (orders 1 to 4)
+// of the rotary axis `k_axis`.
+void RotaryAxisSpecs(Axis k_axis, std::vector<MachineSpec>* specs) {
+  const std::string k = AxisString(k_axis);
+  const std::string h_um = Harmonics(2, 5, "um"), h_urad = Harmonics(2, 5, "urad");
+  auto item = [&](const std::string& sym, const std::string& h) {
+    return "{rotary_error_motion: {symbol: " + sym + ", harmonics: " + h + "}}";
+  };
+  std::string radial_a = "X", radial_b = "Y", tilt_a = "A", tilt_b = "B";
+  if (k == "A") { radial_a = "Y"; radial_b = "Z"; tilt_a = "B"; tilt_b = "C"; }
+  if (k == "B") { radial_a = "X"; radial_b = "Z"; tilt_a = "A"; tilt_b = "C"; }
+  const std::string axial = k == "A" ? "X" : k == "B" ? "Y" : "Z";
+  specs->push_back({"rotary_error_motion", "radial error motion of " + k + ", 2 to 5 lobes",
+                    {item("E_" + radial_a + k, h_um), item("E_" + radial_b + k, h_um)}});
+  specs->push_back({"rotary_error_motion", "axial error motion of " + k + ", 2 to 5 lobes", {item("E_" + axial + k, h_um)}});
+  specs->push_back({"rotary_error_motion", "tilt error motion of " + k + ", 2 to 5 lobes",
+                    {item("E_" + tilt_a + k, h_urad), item("E_" + tilt_b + k, h_urad)}});
+  specs->push_back({"rotary_positioning", "angular positioning error of " + k + ", orders 1 to 4",
+                    {"{rotary_error_motion: {symbol: E_" + k + k + ", harmonics: " + Harmonics(1, 4, "urad") + "}}"}});
+}
+
+std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double duration_s,
+                                      std::vector<std::pair<std::string, std::string>>* not_applicable) {
+  std::vector<MachineSpec> specs;
+  // Rotary axes: the first on the workpiece branch carries the part; the last is the spindle-like table.
+  std::vector<Axis> rotary;
+  for (Axis a : {Axis::kA, Axis::kB, Axis::kC})
+    if (m.HasAxis(a)) rotary.push_back(a);
+  ThermalDriftSpecs(rotary, duration_s, &specs);
+  LinearAxisSpecs(&specs);
   if (!rotary.empty()) {
-    const std::string k = L(rotary.back());
-    const std::string h_um = Harmonics(2, 5, "um"), h_urad = Harmonics(2, 5, "urad");
-    auto item = [&](const std::string& sym, const std::string& h) {
-      return "{rotary_error_motion: {symbol: " + sym + ", harmonics: " + h + "}}";
-    };
-    std::string radial_a = "X", radial_b = "Y", tilt_a = "A", tilt_b = "B";
-    if (k == "A") { radial_a = "Y"; radial_b = "Z"; tilt_a = "B"; tilt_b = "C"; }
-    if (k == "B") { radial_a = "X"; radial_b = "Z"; tilt_a = "A"; tilt_b = "C"; }
-    const std::string axial = k == "A" ? "X" : k == "B" ? "Y" : "Z";
-    specs.push_back({"rotary_error_motion", "radial error motion of " + k + ", 2 to 5 lobes",
-                     {item("E_" + radial_a + k, h_um), item("E_" + radial_b + k, h_um)}});
-    specs.push_back({"rotary_error_motion", "axial error motion of " + k + ", 2 to 5 lobes", {item("E_" + axial + k, h_um)}});
-    specs.push_back({"rotary_error_motion", "tilt error motion of " + k + ", 2 to 5 lobes",
-                     {item("E_" + tilt_a + k, h_urad), item("E_" + tilt_b + k, h_urad)}});
-    specs.push_back({"rotary_positioning", "angular positioning error of " + k + ", orders 1 to 4",
-                     {"{rotary_error_motion: {symbol: E_" + k + k + ", harmonics: " + Harmonics(1, 4, "urad") + "}}"}});
+    RotaryAxisSpecs(rotary.back(), &specs);
   } else {
     not_applicable->push_back({"rotary_error_motion", "the machine has no rotary axis"});
     not_applicable->push_back({"rotary_positioning", "the machine has no rotary axis"});
   }
   return specs;
 }
-
-double Wrap2Pi(double a) {
-  a = std::fmod(a, 2.0 * std::numbers::pi);
-  return a < 0 ? a + 2.0 * std::numbers::pi : a;
-}
-
-// Drops all-zero columns (the effect never acts on this piece).
-void DropZeroColumns(CandidateColumns* c) {
-  std::vector<int> keep;
-  for (int j = 0; j < c->J_dev_effect.cols(); ++j)
-    if (c->J_dev_effect.col(j).squaredNorm() > 1e-20) keep.push_back(j);
-  if (static_cast<int>(keep.size()) == c->J_dev_effect.cols()) return;
-  Eigen::MatrixXd J(c->J_dev_effect.rows(), static_cast<Eigen::Index>(keep.size()));
-  std::vector<std::string> names, units;
-  for (std::size_t k = 0; k < keep.size(); ++k) {
-    J.col(static_cast<Eigen::Index>(k)) = c->J_dev_effect.col(keep[k]);
-    names.push_back(c->parameter_names[static_cast<std::size_t>(keep[k])]);
-    units.push_back(c->units[static_cast<std::size_t>(keep[k])]);
-  }
-  c->J_dev_effect = std::move(J);
-  c->parameter_names = std::move(names);
-  c->units = std::move(units);
-}
-
-}  // namespace
-
-std::vector<Slot> SlotsOf(const kinematics::ErrorState& errors, const std::vector<int>& coefficients) {
-  std::vector<Slot> slots;
-  for (int c : coefficients) {
-    const auto& term = errors.terms()[static_cast<std::size_t>(errors.coefficient_info(c).term)];
-    for (const auto& e : term.effects)
-      if (std::find(slots.begin(), slots.end(), Slot{e.axis, e.component}) == slots.end())
-        slots.push_back(Slot{e.axis, e.component});
-  }
-  return slots;
-}
-
-void AddSlots(const std::vector<Slot>& more, std::vector<Slot>* slots) {
-  for (const Slot& s : more)
-    if (std::find(slots->begin(), slots->end(), s) == slots->end()) slots->push_back(s);
-}
-
-Result<SlotDesign> LineariseSlots(const kinematics::MachineModel& machine, const kinematics::ErrorState& errors,
-                                  const std::vector<Slot>& slots, std::span<const kinematics::Observation> obs) {
-  SlotDesign out;
-  out.slots = slots;
-  // The state without its zero-valued terms (the candidate terms): they add exactly 0 to every
-  // link error, and would only be evaluated at every chain call.
-  kinematics::ErrorState nonzero(machine);
-  for (const auto& t : errors.terms()) {
-    if (std::all_of(t.coefficients.begin(), t.coefficients.end(), [](double c) { return c == 0.0; })) continue;
-    if (Status st = nonzero.AddTerm(machine, t); !st.ok()) return st.WithContext("diagnosis slot design");
-  }
-  auto lin = kinematics::LineariseSlotObservations(machine, nonzero, out.slots, obs);
-  if (!lin.ok()) return lin.status();
-  out.dslot_um = std::move(lin->J_dev_params);
-  lin->J_dev_params.resize(static_cast<Eigen::Index>(obs.size()), 0);
-  out.lin = std::move(*lin);
-  return out;
-}
-
-Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinematics::ErrorState& errors,
-                                           const std::vector<int>& coefficients,
-                                           std::span<const kinematics::Observation> obs) {
-  const auto n = static_cast<Eigen::Index>(obs.size());
-  if (design.dslot_um.rows() != n)
-    return Status(StatusCode::kInvalidArgument, "diagnosis: slot design of " + std::to_string(design.dslot_um.rows()) +
-                                                    " observations for " + std::to_string(n));
-  // Chain rule per coefficient (the basis of each term evaluated once per point for all its
-  // coefficients), over the points on all cores (each point writes its own row).
-  // Not zero-filled here: every column belongs to one term, which writes all its rows (the first
-  // touch of the pages then happens on the worker threads, not serially).
-  Eigen::MatrixXd J(n, static_cast<Eigen::Index>(coefficients.size()));
-  struct Column {
-    Eigen::Index j;              // column of J
-    std::size_t basis;           // index in the term's basis
-    double per_display;          // 1 / display_per_internal
-  };
-  struct TermColumns {
-    const kinematics::ErrorTerm* term;
-    std::vector<Column> columns;
-    std::vector<std::pair<int, double>> slot_gain;
-  };
-  std::map<int, TermColumns> by_term;
-  for (std::size_t j = 0; j < coefficients.size(); ++j) {
-    const auto& info = errors.coefficient_info(coefficients[j]);
-    const int t = info.term;
-    auto [it, inserted] = by_term.try_emplace(t, TermColumns{&errors.terms()[static_cast<std::size_t>(t)], {}, {}});
-    it->second.columns.push_back(
-        {static_cast<Eigen::Index>(j), static_cast<std::size_t>(info.index), 1.0 / info.display_per_internal});
-    if (!inserted) continue;
-    for (const auto& e : it->second.term->effects) {
-      const auto at = std::find(design.slots.begin(), design.slots.end(), Slot{e.axis, e.component});
-      if (at == design.slots.end())
-        return Status(StatusCode::kInvalidArgument,
-                      "diagnosis: term " + it->second.term->label + " writes a slot the design lacks");
-      it->second.slot_gain.emplace_back(static_cast<int>(at - design.slots.begin()), e.gain);
-    }
-  }
-  ParallelChunks(static_cast<std::size_t>(n), 8192, [&](std::size_t begin, std::size_t end) {
-    std::vector<double> w;
-    for (const auto& [term_index, tc] : by_term) {
-      for (std::size_t ii = begin; ii < end; ++ii) {
-        const auto i = static_cast<Eigen::Index>(ii);
-        kinematics::EvaluateTermBasis(*tc.term, obs[ii].cut.axes, &w);
-        double v = 0;
-        for (const auto& [k, g] : tc.slot_gain) v += g * design.dslot_um(i, k);
-        for (const Column& c : tc.columns) {
-          const double b = w[c.basis];
-          J(i, c.j) = b != 0.0 ? b * v * c.per_display : 0.0;
-        }
-      }
-    }
-    return true;
-  });
-  return J;
-}
-
-Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
-                                                  const kinematics::ErrorState& errors,
-                                                  const std::vector<int>& coefficients,
-                                                  std::span<const kinematics::Observation> obs) {
-  auto design = LineariseSlots(machine, errors, SlotsOf(errors, coefficients), obs);
-  if (!design.ok()) return design.status();
-  auto J = CoefficientColumns(*design, errors, coefficients, obs);
-  if (!J.ok()) return J.status();
-  kinematics::LinearDesign lin = std::move(design->lin);
-  lin.J_dev_params = std::move(*J);
-  return lin;
-}
-
-Eigen::Vector3d MachineNormal(const kinematics::MachineModel& machine, const kinematics::Observation& o) {
-  const kinematics::ErrorState zero(machine);
-  kinematics::Workspace ws;
-  return kinematics::MachineFromPart(machine, zero, o.cut.axes, &ws).linear() * o.cut.nominal_normal;
-}
-
-namespace {
 
 // The machine-error candidates as zero-valued terms added to `errors` (`combined`), the
 // coefficient names of each effect item, and the coefficients to linearise (`active`, named
@@ -305,171 +178,94 @@ Result<MachineCandidates> CombineMachineCandidates(const testpieces::TestPiece& 
   return mc;
 }
 
+// The columns of every machine-error candidate coefficient (and the base set in reference mode):
+// from the caller's slot design at `errors` when given, else linearised here.
+Result<Eigen::MatrixXd> MachineCandidateColumns(const kinematics::MachineModel& machine,
+                                                std::span<const kinematics::Observation> obs,
+                                                const MachineCandidates& mc, const kinematics::SlotDesign* design) {
+  if (design) return kinematics::CoefficientColumns(*design, mc.combined, mc.active.coefficients, obs);
+  auto lin = kinematics::LineariseBySlots(machine, mc.combined, mc.active.coefficients, obs);
+  if (!lin.ok()) return lin.status();
+  return std::move(lin->J_dev_params);
+}
+
+// Candidates sharing one matrix of columns (CandidateColumns::shared); columns that never act on
+// this piece are left out (as DropZeroColumns does for the process candidates).
+class SharedCandidates {
+ public:
+  SharedCandidates(Eigen::MatrixXd J_lin, const MachineCandidates& mc) : mc_(mc) {
+    for (std::size_t k = 0; k < mc.lin_names.size(); ++k) col_[mc.lin_names[k]] = static_cast<int>(k);
+    zero_.resize(static_cast<std::size_t>(J_lin.cols()));
+    for (Eigen::Index j = 0; j < J_lin.cols(); ++j) zero_[static_cast<std::size_t>(j)] = J_lin.col(j).squaredNorm() <= 1e-20;
+    shared_ = std::make_shared<const Eigen::MatrixXd>(std::move(J_lin));
+  }
+
+  CandidateColumns Make(const std::string& family, const std::string& name, const std::vector<std::string>& names) const {
+    CandidateColumns c{family, name, {}, {}, {}, shared_, {}};
+    for (const auto& nm : names) {
+      const int j = col_.at(nm);
+      if (zero_[static_cast<std::size_t>(j)]) continue;
+      c.shared_columns.push_back(j);
+      c.parameter_names.push_back(nm);
+      c.units.push_back(mc_.combined.coefficient_info(mc_.active.coefficients[static_cast<std::size_t>(j)]).unit);
+    }
+    return c;
+  }
+
+ private:
+  const MachineCandidates& mc_;
+  std::map<std::string, int> col_;
+  std::vector<bool> zero_;
+  std::shared_ptr<const Eigen::MatrixXd> shared_;
+};
+
+// One candidate per machine spec with coefficients on this machine, and in reference mode the
+// base set refitted (`location_errors`).
+Status AddMachineCandidates(const kinematics::MachineModel& machine, std::span<const kinematics::Observation> obs,
+                            MachineCandidates& mc, const std::vector<std::string>& base_names, bool reference_mode,
+                            const kinematics::SlotDesign* design, CandidateCatalogue* out) {
+  auto J_lin = MachineCandidateColumns(machine, obs, mc, design);
+  if (!J_lin.ok()) return J_lin.status();
+  const SharedCandidates shared(std::move(*J_lin), mc);
+  for (const auto& spec : mc.specs) {
+    std::vector<std::string> names;
+    for (const auto& item : spec.items) {
+      const auto& v = mc.item_names[item];
+      names.insert(names.end(), v.begin(), v.end());
+    }
+    if (names.empty()) continue;
+    out->candidates.push_back(shared.Make(spec.family, spec.name, names));
+  }
+  if (reference_mode) out->candidates.push_back(shared.Make("location_errors", "location errors and squareness refitted", base_names));
+  return {};
+}
+
 }  // namespace
 
-Result<std::vector<Slot>> CandidateSlots(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                         const kinematics::ErrorState& errors,
-                                         const std::vector<std::string>& base_names, bool reference_mode) {
+Result<std::vector<kinematics::ErrorSlot>> CandidateSlots(const testpieces::TestPiece& piece,
+                                                          const kinematics::MachineModel& machine,
+                                                          const kinematics::ErrorState& errors,
+                                                          const std::vector<std::string>& base_names,
+                                                          bool reference_mode) {
   std::vector<std::pair<std::string, std::string>> not_applicable;
   auto mc = CombineMachineCandidates(piece, machine, errors, base_names, reference_mode, &not_applicable);
   if (!mc.ok()) return mc.status();
-  return SlotsOf(mc->combined, mc->active.coefficients);
+  return kinematics::SlotsOf(mc->combined, mc->active.coefficients);
 }
 
 Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const kinematics::ErrorState& errors,
                                            const testpieces::MeasuredObservations& mo,
                                            const std::vector<std::string>& base_names, bool reference_mode,
-                                           const SlotDesign* design) {
+                                           const kinematics::SlotDesign* design) {
   CandidateCatalogue out;
-  const auto& obs = mo.observations;
-  const auto n = static_cast<Eigen::Index>(obs.size());
-
-  // ---- machine-error families: one linearisation with every candidate coefficient active.
+  // Machine-error families: one linearisation with every candidate coefficient active.
   auto mc = CombineMachineCandidates(piece, machine, errors, base_names, reference_mode, &out.not_applicable);
   if (!mc.ok()) return mc.status();
-  const auto& specs = mc->specs;
-  const auto& combined = mc->combined;
-  const auto& lin_names = mc->lin_names;
-  auto& item_names = mc->item_names;
-  if (!lin_names.empty()) {
-    const kinematics::ActiveSet* active = &mc->active;
-    Eigen::MatrixXd J_lin;
-    if (design) {
-      auto J = CoefficientColumns(*design, combined, active->coefficients, obs);
-      if (!J.ok()) return J.status();
-      J_lin = std::move(*J);
-    } else {
-      auto lin = LineariseBySlots(machine, combined, active->coefficients, obs);
-      if (!lin.ok()) return lin.status();
-      J_lin = std::move(lin->J_dev_params);
-    }
-    std::map<std::string, int> col;
-    for (std::size_t k = 0; k < lin_names.size(); ++k) col[lin_names[k]] = static_cast<int>(k);
-    std::vector<bool> zero(static_cast<std::size_t>(J_lin.cols()));
-    for (Eigen::Index j = 0; j < J_lin.cols(); ++j) zero[static_cast<std::size_t>(j)] = J_lin.col(j).squaredNorm() <= 1e-20;
-    const auto shared = std::make_shared<const Eigen::MatrixXd>(std::move(J_lin));
-    // Columns that never act on this piece are left out (as DropZeroColumns does).
-    auto make = [&](const std::string& family, const std::string& name, const std::vector<std::string>& names) {
-      CandidateColumns c{family, name, {}, {}, {}, shared, {}};
-      for (const auto& nm : names) {
-        const int j = col.at(nm);
-        if (zero[static_cast<std::size_t>(j)]) continue;
-        c.shared_columns.push_back(j);
-        c.parameter_names.push_back(nm);
-        c.units.push_back(combined.coefficient_info(active->coefficients[static_cast<std::size_t>(j)]).unit);
-      }
-      return c;
-    };
-    for (const auto& spec : specs) {
-      std::vector<std::string> names;
-      for (const auto& item : spec.items) {
-        const auto& v = item_names[item];
-        names.insert(names.end(), v.begin(), v.end());
-      }
-      if (names.empty()) continue;
-      out.candidates.push_back(make(spec.family, spec.name, names));
-    }
-    if (reference_mode) out.candidates.push_back(make("location_errors", "location errors and squareness refitted", base_names));
-  }
-
-  // ---- process families: columns from the cut model.
-  std::vector<Eigen::Vector3d> nm(static_cast<std::size_t>(n));
-  const kinematics::ErrorState zero(machine);
-  std::vector<Eigen::Matrix3d> mfp(static_cast<std::size_t>(n));
-  ParallelChunks(static_cast<std::size_t>(n), 8192, [&](std::size_t begin, std::size_t end) {
-    kinematics::Workspace ws;
-    for (std::size_t i = begin; i < end; ++i) {
-      mfp[i] = kinematics::MachineFromPart(machine, zero, obs[i].cut.axes, &ws).linear();
-      nm[i] = mfp[i] * obs[i].cut.nominal_normal;
-    }
-    return true;
-  });
-  // The cut of each feature (looked up once per feature, not per point).
-  std::vector<const testpieces::FeatureCut*> cut_of_group(mo.feature_names.size());
-  for (std::size_t g = 0; g < mo.feature_names.size(); ++g) cut_of_group[g] = piece.Cut(mo.feature_names[g]);
-  auto cut_of = [&](Eigen::Index i) { return cut_of_group[static_cast<std::size_t>(obs[static_cast<std::size_t>(i)].group)]; };
-  {  // tool_deflection
-    enum Class { kTurnSide, kTurnFace, kMillSide, kMillFloor, kNumClasses };
-    const char* class_names[] = {"turned_side", "turned_face", "milled_wall", "milled_floor"};
-    const int per_class = 4;  // xx, yy, zz, xy
-    CandidateColumns c{"tool_deflection",
-                       "cutting-force deflection: compliance along machine X, Y, Z per cut class, force along the normal",
-                       Eigen::MatrixXd::Zero(n, kNumClasses * per_class), {}, {}, {}, {}};
-    for (int k = 0; k < kNumClasses; ++k)
-      for (const char* comp : {"xx", "yy", "zz", "xy"}) {
-        c.parameter_names.push_back(std::string(class_names[k]) + ".c_" + comp);
-        c.units.push_back("um");
-      }
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const testpieces::FeatureCut* fc = cut_of(i);
-      if (!fc) continue;
-      int cls = -1;
-      if (const auto* t = std::get_if<testpieces::TurnedCut>(&fc->model)) cls = t->radial_feed ? kTurnFace : kTurnSide;
-      if (const auto* m = std::get_if<testpieces::PathMillCut>(&fc->model)) cls = m->end_face ? kMillFloor : kMillSide;
-      if (cls < 0) continue;
-      const Eigen::Vector3d& v = nm[static_cast<std::size_t>(i)];
-      c.J_dev_effect(i, cls * per_class + 0) = v.x() * v.x();
-      c.J_dev_effect(i, cls * per_class + 1) = v.y() * v.y();
-      c.J_dev_effect(i, cls * per_class + 2) = v.z() * v.z();
-      c.J_dev_effect(i, cls * per_class + 3) = v.x() * v.y();
-    }
-    DropZeroColumns(&c);
-    if (c.J_dev_effect.cols() > 0) out.candidates.push_back(std::move(c));
-    else out.not_applicable.push_back({"tool_deflection", "no turned or milled feature is measured"});
-  }
-  {  // servo_reversal
-    CandidateColumns spikes{"servo_reversal", "quadrant glitches at X and Y reversals of circular interpolation",
-                            Eigen::MatrixXd::Zero(n, 2), {"glitch_X", "glitch_Y"}, {"um", "um"}, {}, {}};
-    CandidateColumns lost{"servo_reversal", "quadrant glitches and lost motion (backlash) of X and Y",
-                          Eigen::MatrixXd::Zero(n, 4), {"glitch_X", "glitch_Y", "backlash_X", "backlash_Y"},
-                          {"um", "um", "um", "um"}, {}, {}};
-    const double half_width = DegToRad(12.0);
-    struct Crossing { double theta; Eigen::Vector3d outward; int axis; };
-    const Crossing crossings[4] = {{0.0, Eigen::Vector3d::UnitX(), 0},
-                                   {std::numbers::pi, -Eigen::Vector3d::UnitX(), 0},
-                                   {0.5 * std::numbers::pi, Eigen::Vector3d::UnitY(), 1},
-                                   {1.5 * std::numbers::pi, -Eigen::Vector3d::UnitY(), 1}};
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const testpieces::FeatureCut* fc = cut_of(i);
-      if (!fc) continue;
-      const auto& o = obs[static_cast<std::size_t>(i)];
-      auto arc = testpieces::ArcTravelAt(*fc, o.cut.nominal_point_mm, mfp[static_cast<std::size_t>(i)]);
-      if (!arc) continue;
-      const double alpha_p = Wrap2Pi(arc->direction * (arc->theta_rad - arc->theta_start_rad));
-      double last_alpha[2] = {-1, -1};
-      double last_proj[2] = {0, 0};
-      for (const auto& cr : crossings) {
-        const double alpha_c = Wrap2Pi(arc->direction * (cr.theta - arc->theta_start_rad));
-        if (alpha_c > alpha_p || alpha_c > arc->sweep_rad) continue;
-        const double phi = alpha_p - alpha_c;
-        const double proj = nm[static_cast<std::size_t>(i)].dot(cr.outward);
-        const double tri = std::max(0.0, 1.0 - phi / half_width);
-        spikes.J_dev_effect(i, cr.axis) += tri * proj;
-        lost.J_dev_effect(i, cr.axis) += tri * proj;
-        if (alpha_c > last_alpha[cr.axis]) { last_alpha[cr.axis] = alpha_c; last_proj[cr.axis] = proj; }
-      }
-      lost.J_dev_effect(i, 2) = last_proj[0];
-      lost.J_dev_effect(i, 3) = last_proj[1];
-    }
-    DropZeroColumns(&spikes);
-    DropZeroColumns(&lost);
-    if (spikes.J_dev_effect.cols() > 0) out.candidates.push_back(std::move(spikes));
-    if (lost.J_dev_effect.cols() > 0) out.candidates.push_back(std::move(lost));
-    if (out.candidates.empty() || out.candidates.back().family != "servo_reversal")
-      out.not_applicable.push_back({"servo_reversal", "no feature is side-milled on a circle interpolated in machine X-Y"});
-  }
-  {  // probe_radius
-    CandidateColumns r{"probe_radius", "CMM probe-radius error", Eigen::MatrixXd::Ones(n, 1), {"probe_radius_error"}, {"um"}, {}, {}};
-    CandidateColumns rs{"probe_radius", "CMM probe-radius and scale error", Eigen::MatrixXd::Ones(n, 2),
-                        {"probe_radius_error", "scale"}, {"um", "ppm"}, {}, {}};
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const auto& o = obs[static_cast<std::size_t>(i)];
-      rs.J_dev_effect(i, 1) = 1e-3 * o.cut.nominal_normal.dot(o.cut.nominal_point_mm);  // um per ppm
-    }
-    out.candidates.push_back(std::move(r));
-    out.candidates.push_back(std::move(rs));
-  }
+  if (!mc->lin_names.empty())
+    TPCAL_RETURN_IF_ERROR(AddMachineCandidates(machine, mo.observations, *mc, base_names, reference_mode, design, &out));
+  // Process families: columns from the cut model.
+  diagnosis_internal::AddProcessCandidates(piece, machine, mo, &out);
   return out;
 }
 

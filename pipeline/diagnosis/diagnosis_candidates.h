@@ -37,6 +37,7 @@
 #include "kinematics/identification.h"
 #include "kinematics/jacobians.h"
 #include "kinematics/machine_model.h"
+#include "kinematics/slot_linearisation.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
@@ -72,43 +73,13 @@ struct CandidateCatalogue {
   std::vector<std::pair<std::string, std::string>> not_applicable;
 };
 
-// An error slot: one component of one axis link (kinematics/conventions.h).
-using Slot = kinematics::ErrorSlot;
-
-// The deviation of every observation linearised per error slot at a state of the errors:
-// dslot_um(i, k) = d deviation (um) / d slot k (mm or rad), and the alignment columns, measured
-// and predicted deviations of kinematics::LineariseObservations (lin.J_dev_params is empty).
-struct SlotDesign {
-  std::vector<Slot> slots;
-  Eigen::MatrixXd dslot_um;
-  kinematics::LinearDesign lin;
-};
-
-// The slots the coefficients `coefficients` of `errors` write (first-use order, no repeats).
-std::vector<Slot> SlotsOf(const kinematics::ErrorState& errors, const std::vector<int>& coefficients);
-// Appends the slots of `more` that `slots` lacks.
-void AddSlots(const std::vector<Slot>& more, std::vector<Slot>* slots);
-
-// kinematics::LineariseSlotObservations at the state `errors` (its zero-valued terms left out:
-// they add nothing). Errors: those of LineariseSlotObservations (a surface point that does not
-// converge).
-Result<SlotDesign> LineariseSlots(const kinematics::MachineModel& machine, const kinematics::ErrorState& errors,
-                                  const std::vector<Slot>& slots, std::span<const kinematics::Observation> observations);
-
-// d deviation / d coefficient (um per display unit, n x coefficients.size()) of coefficients of
-// `errors` from a slot design of the same observations: each coefficient's gain and basis value
-// at the cut's nominal axis state (EvaluateTermBasis, conditions included) times its slots'
-// columns. kInvalidArgument when a coefficient writes a slot the design lacks or the design has
-// another number of observations.
-Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const kinematics::ErrorState& errors,
-                                           const std::vector<int>& coefficients,
-                                           std::span<const kinematics::Observation> observations);
-
-// The slots the machine-error candidates of BuildCandidates write (for one LineariseSlots shared
-// with the base model). Errors: those of BuildCandidates' parameter selection.
-Result<std::vector<Slot>> CandidateSlots(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                         const kinematics::ErrorState& errors,
-                                         const std::vector<std::string>& base_names, bool reference_mode);
+// The slots the machine-error candidates of BuildCandidates write (for one kinematics::LineariseSlots
+// shared with the base model). Errors: those of BuildCandidates' parameter selection.
+Result<std::vector<kinematics::ErrorSlot>> CandidateSlots(const testpieces::TestPiece& piece,
+                                                          const kinematics::MachineModel& machine,
+                                                          const kinematics::ErrorState& errors,
+                                                          const std::vector<std::string>& base_names,
+                                                          bool reference_mode);
 
 // Builds every candidate's columns at the linearisation point `errors` (the fitted base or the
 // reference). `base_names` are the base parameter names (for the reference-mode candidate).
@@ -118,21 +89,6 @@ Result<CandidateCatalogue> BuildCandidates(const testpieces::TestPiece& piece, c
                                            const kinematics::ErrorState& errors,
                                            const testpieces::MeasuredObservations& observations,
                                            const std::vector<std::string>& base_names, bool reference_mode,
-                                           const SlotDesign* design = nullptr);
-
-// d deviation / d coefficient (um per display unit) of the coefficients `coefficients` of `errors`
-// at the state `errors`, by the chain rule through the error slots they write: LineariseSlots
-// over the slots used (a handful instead of every coefficient), then CoefficientColumns. Equal to the direct Jacobian at
-// zero errors; at non-zero errors the basis is taken at the nominal instead of the solved sweep
-// position, a relative change of order (error / tangent speed) (~1e-4 for tens of um).
-// Returns the LinearDesign with J_dev_params holding these columns (alignment, measured and
-// predicted deviations as LineariseObservations gives them).
-Result<kinematics::LinearDesign> LineariseBySlots(const kinematics::MachineModel& machine,
-                                                  const kinematics::ErrorState& errors,
-                                                  const std::vector<int>& coefficients,
-                                                  std::span<const kinematics::Observation> observations);
-
-// Machine-frame outward normal of an observation (nominal kinematics at its cut state).
-Eigen::Vector3d MachineNormal(const kinematics::MachineModel& machine, const kinematics::Observation& o);
+                                           const kinematics::SlotDesign* design = nullptr);
 
 }  // namespace tpcal::pipeline

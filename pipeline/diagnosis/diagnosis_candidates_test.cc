@@ -1,4 +1,4 @@
-#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "kinematics/slot_linearisation.h"
 
 #include <gtest/gtest.h>
 
@@ -32,7 +32,7 @@ void CompareColumns(const std::string& yaml, double rel_tol) {
   const kinematics::ActiveSet all = kinematics::AllCoefficients(*errors);
   auto direct = kinematics::LineariseObservations(*m, *errors, all, obs);
   ASSERT_TRUE(direct.ok());
-  auto slots = LineariseBySlots(*m, *errors, all.coefficients, obs);
+  auto slots = kinematics::LineariseBySlots(*m, *errors, all.coefficients, obs);
   ASSERT_TRUE(slots.ok()) << slots.status().message();
   ASSERT_EQ(slots->J_dev_params.cols(), direct->J_dev_params.cols());
   for (Eigen::Index j = 0; j < direct->J_dev_params.cols(); ++j) {

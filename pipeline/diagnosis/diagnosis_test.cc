@@ -15,7 +15,7 @@
 
 #include "gdt/inspection.h"
 #include "kinematics/errors_yaml.h"
-#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "kinematics/slot_linearisation.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/diagnosis/diagnosis_validate.h"
 #include "testpieces/point_association.h"
@@ -497,10 +497,10 @@ TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
   ASSERT_EQ(own->verdict.family, "thermal_drift") << DiagnosisText(*own);
   auto slots = NominalDiagnosisSlots(f.piece, f.machine, DiagnosisOptions{});
   ASSERT_TRUE(slots.ok()) << slots.status().message();
-  auto design = LineariseSlots(f.machine, kinematics::ErrorState(f.machine), *slots, mo->observations);
+  auto design = kinematics::LineariseSlots(f.machine, kinematics::ErrorState(f.machine), *slots, mo->observations);
   ASSERT_TRUE(design.ok()) << design.status().message();
   DiagnosisOptions o;
-  o.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*design));
+  o.nominal_slot_design = std::make_shared<const kinematics::SlotDesign>(std::move(*design));
   auto shared = DiagnoseObservations(f.piece, f.machine, *mo, o);
   ASSERT_TRUE(shared.ok()) << shared.status().message();
   EXPECT_EQ(shared->gap_um, own->gap_um);
@@ -511,10 +511,11 @@ TEST(Diagnosis, SharedNominalSlotDesignGivesTheSameDiagnosis) {
     EXPECT_EQ(shared->candidates[k].rms_after_um, own->candidates[k].rms_after_um);
   }
   // Without the candidates' slots the design cannot serve: the diagnosis makes its own.
-  auto partial = LineariseSlots(f.machine, kinematics::ErrorState(f.machine),
-                                std::vector<Slot>(slots->begin(), slots->begin() + 2), mo->observations);
+  auto partial = kinematics::LineariseSlots(f.machine, kinematics::ErrorState(f.machine),
+                                            std::vector<kinematics::ErrorSlot>(slots->begin(), slots->begin() + 2),
+                                            mo->observations);
   ASSERT_TRUE(partial.ok());
-  o.nominal_slot_design = std::make_shared<const SlotDesign>(std::move(*partial));
+  o.nominal_slot_design = std::make_shared<const kinematics::SlotDesign>(std::move(*partial));
   auto fallback = DiagnoseObservations(f.piece, f.machine, *mo, o);
   ASSERT_TRUE(fallback.ok()) << fallback.status().message();
   EXPECT_EQ(fallback->gap_um, own->gap_um);

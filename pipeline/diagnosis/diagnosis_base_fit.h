@@ -1,0 +1,85 @@
+// Step 1 of the diagnosis (diagnosis.h): the base model fitted to the measured deviations (or
+// the reference machine errors, only the re-alignment fitted), and the gap it leaves with its
+// leave-one-point-out and leave-one-feature-out figures. Internal to the diagnosis library.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/status.h"
+#include "kinematics/error_state.h"
+#include "kinematics/machine_model.h"
+#include "kinematics/slot_linearisation.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis_cv.h"
+#include "pipeline/diagnosis/diagnosis_least_squares.h"
+#include "testpieces/point_association.h"
+#include "testpieces/test_piece.h"
+
+namespace tpcal::pipeline::diagnosis_internal {
+
+// The slots one linearisation writes: the base coefficients' and every machine-error candidate's.
+std::vector<kinematics::ErrorSlot> DiagnosisSlotUnion(const kinematics::ErrorState& errors,
+                                                      const std::vector<int>& base_coefficients,
+                                                      const std::vector<kinematics::ErrorSlot>& candidate_slots);
+
+// The base model's linear fit (display units: um, urad) at its linearisation point.
+struct BaseFit {
+  explicit BaseFit(kinematics::ErrorState at) : errors(std::move(at)) {}
+
+  kinematics::ErrorState errors;   // linearisation point: the base at zero, re-linearised at the fit, or the reference
+  kinematics::ActiveSet active;    // the base coefficients of `errors`
+  int q_fit = 0;                   // fitted base columns (0 in reference mode)
+  Basis basis;                     // of the design [base columns, 6 alignment columns]
+  Eigen::VectorXd y;               // per point: measured - predicted deviation (- the reference's), um
+  Eigen::VectorXd coef, u;         // fitted correction at `errors` and its uncertainty, per design column
+  std::vector<bool> identifiable;  // per design column
+  // The last linearisation (it holds every machine-error candidate's slots): the caller's
+  // nominal one (DiagnosisOptions::nominal_slot_design) or one made here.
+  std::shared_ptr<const kinematics::SlotDesign> design;
+};
+
+// The base set `base_names` fitted with the re-alignment (Gauss-Newton: a second linearisation
+// at the fit when a fitted value exceeds 1000 um / urad), or in reference mode only the
+// re-alignment at the reference; `reference_dev_um` (or null) is subtracted from the measured
+// deviations. Errors: unknown base parameters, kTooFewPoints (n <= fitted columns), those of the
+// linearisation.
+Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                             std::span<const kinematics::Observation> observations, const DiagnosisOptions& options,
+                             const std::vector<std::string>& base_names, bool reference_mode,
+                             const Eigen::VectorXd* reference_dev_um);
+
+// Writes the base model's description, size and identified coefficients (fitted value =
+// linearisation point + correction) into `out`.
+void DescribeBaseModel(const BaseFit& fit, const DiagnosisOptions& options, bool point_reference, bool reference_mode,
+                       DiagnosisResult* out);
+
+// The gap the base model leaves, and its cross-validation: what every candidate is compared with.
+struct BaseGap {
+  Eigen::VectorXd r;             // residual per point (um)
+  Eigen::VectorXd h;             // leverage per point (hat-matrix diagonal of the base design)
+  double ssr = 0.0;              // sum of squared residuals (um^2)
+  double rms_um = 0.0;           // RMS of r
+  double press_rms_um = 0.0;     // leave-one-point-out RMS
+  GroupCrossValidation feature_cv;  // leave-one-feature-out on the base design
+  GroupCvResult cv;                 // of the base fit alone
+  std::vector<std::string> feature_names;
+};
+
+BaseGap MakeBaseGap(const BaseFit& fit, const testpieces::MeasuredObservations& observations,
+                    double holdout_tolerance);
+
+// Writes the gap and the base's cross-validation figures into `out`.
+void ReportBaseGap(const BaseGap& gap, const testpieces::MeasuredObservations& observations, DiagnosisResult* out);
+
+// Names of the features with points that `holdable` (per feature) does not hold out.
+std::vector<std::string> NotHeldOut(const BaseGap& gap, const std::vector<bool>& holdable);
+
+// Number of true entries.
+int CountTrue(const std::vector<bool>& v);
+
+}  // namespace tpcal::pipeline::diagnosis_internal

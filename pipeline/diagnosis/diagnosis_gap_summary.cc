@@ -1,0 +1,156 @@
+#include "pipeline/diagnosis/diagnosis_gap_summary.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/units.h"
+
+namespace tpcal::pipeline::diagnosis_internal {
+namespace {
+
+using PointGroups = std::map<std::string, std::vector<Eigen::Index>>;
+
+// The points grouped by feature, operation ("op 2") and A (B) index ("A=-90 deg"), and each
+// point's machining time.
+struct GapGroups {
+  std::vector<double> t_s;
+  PointGroups by_feature, by_op, by_a;
+};
+
+// Group keys are formatted once per distinct value (not once per point).
+GapGroups GroupGapPoints(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& mo) {
+  const auto& obs = mo.observations;
+  const auto n = static_cast<Eigen::Index>(obs.size());
+  GapGroups out;
+  out.t_s.resize(static_cast<std::size_t>(n));
+  std::vector<std::vector<Eigen::Index>> of_group(mo.feature_names.size());
+  std::map<int, std::vector<Eigen::Index>> of_op;
+  std::map<double, std::vector<Eigen::Index>> of_a;  // rounded to 0.001 deg
+  const bool has_a = machine.HasAxis(kinematics::Axis::kA);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& o = obs[static_cast<std::size_t>(i)];
+    out.t_s[static_cast<std::size_t>(i)] = o.cut.axes.t_s;
+    of_group[static_cast<std::size_t>(o.group)].push_back(i);
+    of_op[o.cut.axes.op].push_back(i);
+    const double a_deg = RadToDeg(has_a ? o.cut.axes.a_rad : o.cut.axes.b_rad);
+    of_a[std::round(a_deg * 1000.0) / 1000.0 + 0.0].push_back(i);
+  }
+  for (std::size_t g = 0; g < of_group.size(); ++g)
+    if (!of_group[g].empty()) out.by_feature[mo.feature_names[g]] = std::move(of_group[g]);
+  char buf[32];
+  for (auto& [op, idx] : of_op) {
+    std::snprintf(buf, sizeof(buf), "op %d", op);
+    out.by_op[buf] = std::move(idx);
+  }
+  for (auto& [a, idx] : of_a) {
+    std::snprintf(buf, sizeof(buf), "%s=%g deg", has_a ? "A" : "B", a);
+    auto& v = out.by_a[buf];  // distinct values print distinctly at 0.001 deg; merge if not
+    v.insert(v.end(), idx.begin(), idx.end());
+  }
+  return out;
+}
+
+void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const std::vector<double>& t_s, double sigma,
+                double z_out, std::vector<GroupGap>* out, std::vector<std::string>* standing, const std::string& prefix) {
+  for (const auto& [name, idx] : groups) {
+    GroupGap g;
+    g.group = name;
+    g.n_points = static_cast<int>(idx.size());
+    double ss = 0, sum = 0, tsum = 0;
+    for (auto i : idx) {
+      ss += r(i) * r(i);
+      sum += r(i);
+      tsum += t_s[static_cast<std::size_t>(i)];
+      g.max_abs_um = std::max(g.max_abs_um, std::abs(r(i)));
+    }
+    const double n = static_cast<double>(idx.size());
+    g.rms_um = std::sqrt(ss / n);
+    g.mean_um = sum / n;
+    g.mean_t_s = tsum / n;
+    g.z = sigma > 0 ? (ss / (sigma * sigma) - n) / std::sqrt(2.0 * n) : 0.0;
+    g.stands_out = g.z > z_out;
+    if (g.stands_out) standing->push_back(prefix + name);
+    out->push_back(g);
+  }
+}
+
+// Linear trend of the gap with machining time (um per hour) and its uncertainty.
+void FitDrift(const Eigen::VectorXd& r0, const std::vector<double>& t_s, double s, DiagnosisResult* out) {
+  const auto n = r0.size();
+  Eigen::MatrixXd T(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) T(i, 0) = 1.0, T(i, 1) = t_s[static_cast<std::size_t>(i)] / 3600.0;
+  const Eigen::MatrixXd TtT = T.transpose() * T;
+  if (std::abs(TtT.determinant()) > 1e-12) {
+    const Eigen::Vector2d beta = TtT.ldlt().solve(T.transpose() * r0);
+    out->drift_um_per_h = beta(1);
+    out->drift_u_um_per_h = s * std::sqrt(TtT.inverse()(1, 1));
+  }
+}
+
+// Harmonics 1..kmax of the gap around one circular profile (azimuth about its centroid, part Z),
+// appended to *all.
+void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
+                      const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0, double s,
+                      int max_harmonic, std::vector<HarmonicGap>* all) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
+  c /= static_cast<double>(idx.size());
+  const int kmax = std::min<int>(max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
+  // One pass: cos(k phi) + i sin(k phi) = w^k with w = e^{i phi} (azimuth phi of the point).
+  std::vector<std::complex<double>> sum(static_cast<std::size_t>(std::max(kmax, 0)) + 1, 0.0);
+  for (auto i : idx) {
+    const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
+    const double rho = std::hypot(d.x(), d.y());
+    const std::complex<double> w = rho > 0 ? std::complex<double>(d.x() / rho, d.y() / rho) : 1.0;
+    std::complex<double> wk = 1.0;
+    for (int k = 1; k <= kmax; ++k) {
+      wk *= w;
+      sum[static_cast<std::size_t>(k)] += r0(i) * wk;
+    }
+  }
+  for (int k = 1; k <= kmax; ++k) {
+    const double m = static_cast<double>(idx.size());
+    const double a = sum[static_cast<std::size_t>(k)].real() * 2.0 / m;
+    const double b = sum[static_cast<std::size_t>(k)].imag() * 2.0 / m;
+    HarmonicGap h{name, k, std::hypot(a, b), RadToDeg(std::atan2(b, a)), 0.0, false};
+    h.z = s > 0 ? h.amplitude_um / (s * std::sqrt(2.0 / m)) : 0.0;
+    all->push_back(h);
+  }
+}
+
+// C harmonics of every circular profile (a feature of at least 8 points), and which stand out.
+void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinematics::Observation>& obs,
+                       const Eigen::VectorXd& r0, double s, int max_harmonic, DiagnosisResult* out) {
+  std::vector<HarmonicGap> all;
+  for (const auto& [name, idx] : by_feature)
+    if (idx.size() >= 8) ProfileHarmonics(name, idx, obs, r0, s, max_harmonic, &all);
+  // Rayleigh tail with a Bonferroni bound at 1 %: P(z > t) = exp(-t^2 / 2) per test.
+  const double t = all.empty() ? 0.0 : std::sqrt(2.0 * std::log(static_cast<double>(all.size()) / 0.01));
+  for (auto& h : all) {
+    h.stands_out = h.z > t;
+    if (h.stands_out) out->standing_out.push_back("feature " + h.feature + " harmonic " + std::to_string(h.order));
+  }
+  out->harmonics = std::move(all);
+}
+
+}  // namespace
+
+void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& mo,
+                  const Eigen::VectorXd& r0, double s, const DiagnosisOptions& options, DiagnosisResult* out) {
+  const GapGroups groups = GroupGapPoints(machine, mo);
+  const double z = options.stand_out_z;
+  GroupStats(groups.by_feature, r0, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
+  GroupStats(groups.by_op, r0, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
+  GroupStats(groups.by_a, r0, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
+  FitDrift(r0, groups.t_s, s, out);
+  CircularHarmonics(groups.by_feature, mo.observations, r0, s, options.max_harmonic, out);
+}
+
+}  // namespace tpcal::pipeline::diagnosis_internal

@@ -1,0 +1,21 @@
+// Step 4 of the diagnosis (diagnosis.h): where the gap lies. Statistics of the gap per feature,
+// operation and A (or B) index with their excess over noise, its linear trend with machining
+// time, and the harmonics of every circular profile. Internal to the diagnosis library.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "kinematics/machine_model.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "testpieces/point_association.h"
+
+namespace tpcal::pipeline::diagnosis_internal {
+
+// The gap `gap_um` (per observation) summarised against the noise sigma `sigma_um` into out's
+// by_feature, by_operation, by_a_index, drift, harmonics and standing_out (groups first, then
+// harmonics).
+void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& observations,
+                  const Eigen::VectorXd& gap_um, double sigma_um, const DiagnosisOptions& options,
+                  DiagnosisResult* out);
+
+}  // namespace tpcal::pipeline::diagnosis_internal

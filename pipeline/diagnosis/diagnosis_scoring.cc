@@ -1,0 +1,161 @@
+#include "pipeline/diagnosis/diagnosis_scoring.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/parallel.h"
+#include "pipeline/diagnosis/diagnosis_least_squares.h"
+
+namespace tpcal::pipeline::diagnosis_internal {
+namespace {
+
+// From this many points the candidates are evaluated on several threads (below, threads cost more
+// than they save: a candidate of the 352-point sample takes ~0.3 ms).
+constexpr Eigen::Index kParallelPoints = 20000;
+
+// Does any feature held out in `cv1` carry the effect (a non-zero column entry)? If not, the
+// feature-CV cannot test the candidate (e.g. an effect acting on one feature only, which is then
+// not holdable).
+bool ReachesHeldOutFeature(const Columns& C, const Projected& b, const GroupCvResult& cv1, const BaseGap& gap) {
+  bool reaches = false;
+  double largest = 0.0;
+  for (const auto& c : C) largest = std::max(largest, c.size() ? c.cwiseAbs().maxCoeff() : 0.0);
+  const double row_tol = 1e-12 * std::max(1e-300, largest);
+  for (int g = 0; g < gap.feature_cv.n_groups() && !reaches && b.rank > 0 && !C.empty(); ++g) {
+    if (!cv1.holdable[static_cast<std::size_t>(g)]) continue;
+    for (auto i : gap.feature_cv.rows(g)) {
+      for (const auto& c : C)
+        if (std::abs(c(i)) > row_tol) {
+          reaches = true;
+          break;
+        }
+      if (reaches) break;
+    }
+  }
+  return reaches;
+}
+
+// Feature-CV before and after over the features the joint design can hold out, or the PRESS
+// figures when the feature-CV cannot test the candidate (cv_method says which, and why).
+CvTrace CrossValidate(const Columns& C, const Projected& b, const Eigen::VectorXd& r1, const BaseGap& gap,
+                      CandidateResult* cr) {
+  const GroupCvResult cv1 = b.rank > 0 ? gap.feature_cv.Evaluate(b.U, r1) : gap.cv;
+  CvTrace trace;
+  cr->cv_features = CountTrue(cv1.holdable);
+  cr->cv_not_held_out = NotHeldOut(gap, cv1.holdable);
+  const bool reaches = ReachesHeldOutFeature(C, b, cv1, gap);
+  // Does the candidate make a feature unholdable that the base model holds out (its columns
+  // there are fixed by that feature's points alone, e.g. a straightness polynomial by the
+  // features at the ends of its axis range)? Its feature-CV would then be taken over a
+  // different, smaller set than the base's, leaving out exactly the features where it
+  // extrapolates worst, and would not be comparable with the other candidates': it is judged
+  // by PRESS instead (as a candidate no held-out feature carries), and says so. Holdable sets
+  // only shrink when columns are added (interlacing), so equal counts mean equal sets.
+  const bool loses_features = CountTrue(cv1.holdable) < CountTrue(gap.cv.holdable);
+  trace.press_ss = cr->press_rms_after_um * cr->press_rms_after_um * static_cast<double>(r1.size());
+  if (b.rank == 0 || (reaches && !loses_features)) {
+    cr->cv_rms_before_um = gap.cv.RmsOver(cv1.holdable);
+    cr->cv_rms_after_um = cv1.Rms();
+    trace.ss_by_feature = cv1.ss_by_group;
+    trace.held_out = cv1.holdable;
+  } else {
+    cr->cv_method = "leave-one-point-out";
+    cr->cv_method_reason = reaches ? "the effect's columns are fixed by features the base model holds out, which it "
+                                     "makes unholdable: leave-one-feature-out would compare it on fewer features"
+                                   : "no held-out feature carries the effect";
+    cr->cv_rms_before_um = cr->press_rms_before_um;
+    cr->cv_rms_after_um = cr->press_rms_after_um;
+  }
+  return trace;
+}
+
+// Parameters of the effect (joint fit = fit of the residual on the projected columns), residual
+// variance ssr1 / dof1. Returns their values.
+Eigen::VectorXd EffectParameters(const CandidateColumns& cc, const Projected& b, const Eigen::VectorXd& r0,
+                                 double ssr1, double dof1, CandidateResult* cr) {
+  const double s2 = dof1 > 0 ? ssr1 / dof1 : 0.0;
+  const Eigen::VectorXd coef = b.rank > 0 ? Eigen::VectorXd(b.B * (b.U.transpose() * r0))
+                                          : Eigen::VectorXd(Eigen::VectorXd::Zero(cc.cols()));
+  for (Eigen::Index j = 0; j < coef.size(); ++j) {
+    const double u = b.rank > 0 ? std::sqrt(s2 * b.B.row(j).squaredNorm()) : 0.0;
+    cr->parameters.push_back({cc.parameter_names[static_cast<std::size_t>(j)], cc.units[static_cast<std::size_t>(j)],
+                              coef(j), u, b.identifiable[static_cast<std::size_t>(j)]});
+  }
+  return coef;
+}
+
+// Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef).
+void BaseShifts(const Columns& C, const Eigen::VectorXd& coef, const BaseFit& fit,
+                const std::vector<EffectParameter>& base_parameters, CandidateResult* cr) {
+  Eigen::VectorXd effect = Eigen::VectorXd::Zero(fit.y.size());
+  for (std::size_t j = 0; j < C.size(); ++j) effect += coef(static_cast<Eigen::Index>(j)) * C[j];
+  Eigen::VectorXd dcoef, du;
+  std::vector<bool> dident;
+  Solve(fit.basis, effect, 0.0, &dcoef, &du, &dident);
+  for (int k = 0; k < fit.q_fit; ++k) {
+    const auto& bp = base_parameters[static_cast<std::size_t>(k)];
+    if (!bp.identifiable || std::abs(dcoef(k)) < 1e-9) continue;  // no number for what the data cannot separate
+    cr->base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k)});
+  }
+}
+
+// One candidate's scores; its projection and CV trace in *b and *trace.
+CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, const BaseGap& gap,
+                               const std::vector<EffectParameter>& base_parameters, const DiagnosisOptions& options,
+                               Projected* b_out, CvTrace* trace) {
+  const Eigen::VectorXd& r0 = gap.r;
+  const auto n = r0.size();
+  CandidateResult cr;
+  cr.family = cc.family;
+  cr.name = cc.name;
+  cr.n_columns = static_cast<int>(cc.cols());
+  const Columns C = ColumnsOf(cc);
+  Projected b = ProjectCandidate(C, fit.basis.U, options.absorbed_tolerance);
+  cr.rank = b.rank;
+  cr.observable = b.rank > 0;
+  cr.visible_share = b.max_sine;
+  cr.typical_visible_share = b.rms_sine;
+  cr.press_rms_before_um = gap.press_rms_um;
+  const Eigen::VectorXd fitted = b.U * (b.U.transpose() * r0);
+  const Eigen::VectorXd r1 = r0 - fitted;
+  const double ssr1 = r1.squaredNorm();
+  const double dof1 = static_cast<double>(n - fit.basis.rank - b.rank);
+  cr.rms_after_um = Rms(r1);
+  cr.max_abs_after_um = r1.size() ? r1.cwiseAbs().maxCoeff() : 0.0;
+  cr.shrink_pct = gap.rms_um > 0 ? 100.0 * (1.0 - cr.rms_after_um / gap.rms_um) : 0.0;
+  cr.press_rms_after_um = Rms(Press(r1, gap.h + RowSquaredNorms(b.U)));
+  *trace = CrossValidate(C, b, r1, gap, &cr);
+  cr.cv_shrink_pct = cr.cv_rms_before_um > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cr.cv_rms_before_um) : 0.0;
+  if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
+    cr.f_stat = ((gap.ssr - ssr1) / b.rank) / (ssr1 / dof1);
+    cr.p_value = FUpperTail(cr.f_stat, b.rank, dof1);
+    cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / gap.ssr) + b.rank * std::log(static_cast<double>(n));
+  }
+  const Eigen::VectorXd coef = EffectParameters(cc, b, r0, ssr1, dof1, &cr);
+  if (fit.q_fit > 0 && b.rank > 0) BaseShifts(C, coef, fit, base_parameters, &cr);
+  *b_out = std::move(b);
+  return cr;
+}
+
+}  // namespace
+
+ScoredCandidates ScoreCandidates(const CandidateCatalogue& catalogue, const BaseFit& fit, const BaseGap& gap,
+                                 const std::vector<EffectParameter>& base_parameters, const DiagnosisOptions& options) {
+  const std::size_t n_candidates = catalogue.candidates.size();
+  ScoredCandidates s;
+  s.bases.resize(n_candidates);
+  s.traces.resize(n_candidates);
+  s.results.resize(n_candidates);
+  // Candidates are independent: each writes its own slot.
+  ParallelForEach(n_candidates, gap.r.size() >= kParallelPoints, [&](std::size_t ci) {
+    s.results[ci] = ScoreCandidate(catalogue.candidates[ci], fit, gap, base_parameters, options, &s.bases[ci],
+                                   &s.traces[ci]);
+  });
+  s.alpha_each = options.alpha / std::max<std::size_t>(1, s.results.size());
+  for (auto& cr : s.results)
+    cr.significant = cr.observable && cr.p_value < s.alpha_each && cr.cv_rms_after_um < cr.cv_rms_before_um;
+  return s;
+}
+
+}  // namespace tpcal::pipeline::diagnosis_internal

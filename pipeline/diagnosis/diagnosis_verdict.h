@@ -1,0 +1,58 @@
+// Step 3 of the diagnosis (diagnosis.h): the pairwise ranking of the significant candidates, the
+// verdict and the families indistinguishable from it, the runner-up and, when the two are close,
+// their joint fit (diagnosis_pair_fit.h); then the candidate list of the result with the
+// unobservable and weakly observable families. Internal to the diagnosis library.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis_base_fit.h"
+#include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/diagnosis/diagnosis_scoring.h"
+
+namespace tpcal::pipeline::diagnosis_internal {
+
+// What the verdict's tests read: the catalogue, its scores, the base fit and the gap it leaves.
+struct VerdictInputs {
+  const CandidateCatalogue& catalogue;
+  const ScoredCandidates& scored;
+  const BaseFit& fit;
+  const BaseGap& gap;
+  const DiagnosisOptions& options;
+};
+
+// Does candidate a beat candidate b (both significant)? Their held-out squared residuals on the
+// features both hold out differ by more than 2 standard errors of the paired sum (>= 3 common
+// features), else the smaller PRESS sum; undecided: the smaller delta BIC.
+bool Beats(const ScoredCandidates& scored, std::size_t a, std::size_t b);
+
+// F statistic and p-value of candidate j added to base + candidate k ({0, 1} when j adds nothing).
+std::pair<double, double> FBeyond(const VerdictInputs& in, std::size_t j, std::size_t k);
+
+// The ranking, best first: significant, then observable, then the rest; within each, most
+// pairwise wins (Beats), then the smaller cv ratio after / before, then catalogue order. And the
+// best candidate of each family (its first in the ranking).
+struct Ranking {
+  std::vector<std::size_t> order;
+  std::map<std::string, std::size_t> best_of_family;
+};
+Ranking RankCandidates(const ScoredCandidates& scored);
+
+// The model the verdict leaves: its sum of squared residuals (um^2) and fitted directions.
+struct FinalModel {
+  double ssr = 0.0;
+  int dof = 0;
+};
+
+// The verdict, the families indistinguishable from it, `also`, and the pair fit, into `out`.
+FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out);
+
+// The candidates in ranking order, the unobservable and the weakly observable families, into `out`.
+void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out);
+
+}  // namespace tpcal::pipeline::diagnosis_internal
