@@ -16,7 +16,7 @@
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/report/fit_json.h"
-#include "pipeline/piece_setup.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "testpieces/named_pieces.h"
@@ -88,7 +88,8 @@ int RunFit(const FitArgs& args) {
   // features, and the piece's inspection plan is evaluated unless --plan names another.
   std::optional<gdt::InspectionPlan> plan;
   if (!args.testpiece.empty()) {
-    auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
+    auto setup = pipeline::LoadPiece({.testpiece = args.testpiece, .config_path = args.config, .machine_path = args.machine,
+                                    .wording = {.name_piece_errors = true}});
     if (!setup.ok()) return ReportError(setup.status());
     auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points, *labelling);
     if (!labelled.ok()) return ReportError(labelled.status());

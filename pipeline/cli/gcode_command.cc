@@ -23,9 +23,9 @@
 #include "gcode/options_yaml.h"
 #include "gcode/post_program.h"
 #include "kinematics/machine_model.h"
-#include "kinematics/machine_yaml.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/version.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
@@ -50,24 +50,16 @@ struct GcodeArgs {
 Status ArgError(const std::string& message) { return Status(StatusCode::kInvalidArgument, message, "tpcal gcode"); }
 
 Result<testpieces::TestPiece> BuildPiece(const GcodeArgs& args) {
-  auto named = testpieces::NamedPieceConfig(args.testpiece);
-  if (!named.ok()) return ArgError("--testpiece: " + named.status().message());
-  testpieces::PieceConfig config = named->config;
-  if (!args.config.empty()) {
-    auto read = testpieces::LoadPieceConfig(args.config);
-    if (!read.ok()) return read.status();
-    if (Status s = testpieces::CheckConfigMatchesName(*read, *named, args.testpiece, args.config); !s.ok()) return s;
-    config = std::move(*read);
-  }
-  auto machine = args.machine.empty() ? kinematics::MakeMachine(named->usual_machine)
-                                      : kinematics::LoadMachineModel(args.machine);
-  if (!machine.ok()) return machine.status();
-  auto piece = testpieces::MakeTestPiece(config, *machine);
-  if (!piece.ok()) {
-    const Status& s = piece.status();
-    return s.file().empty() ? s.WithLocation(args.config.empty() ? args.machine : args.config) : s;
-  }
-  return piece;
+  pipeline::PieceRequest request;
+  request.testpiece = args.testpiece;
+  request.config_path = args.config;
+  request.machine_path = args.machine;
+  request.wording.unknown_name_prefix = "--testpiece: ";
+  request.wording.unknown_name_file = "tpcal gcode";
+  request.wording.locate_piece_errors = pipeline::PieceErrorWording::Locate::kConfigElseMachine;
+  auto loaded = pipeline::LoadPiece(request);
+  if (!loaded.ok()) return loaded.status();
+  return std::move(loaded->piece);
 }
 
 // Program name from the output file's stem: [A-Z0-9_], starting with a letter, 24 characters.

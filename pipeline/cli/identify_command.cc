@@ -12,7 +12,7 @@
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/identify_json.h"
-#include "pipeline/piece_setup.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "testpieces/named_pieces.h"
@@ -78,7 +78,8 @@ void PrintSummary(const pipeline::IdentificationReport& r) {
 int RunIdentify(const IdentifyArgs& args) {
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
-  auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
+  auto setup = pipeline::LoadPiece({.testpiece = args.testpiece, .config_path = args.config, .machine_path = args.machine,
+                                    .wording = {.name_piece_errors = true}});
   if (!setup.ok()) return ReportError(setup.status());
   auto points = pipeline::ReadPoints(args.points);
   if (!points.ok()) return ReportError(points.status());

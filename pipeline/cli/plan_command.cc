@@ -8,128 +8,19 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <variant>
 
-#include "kinematics/machine_yaml.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/io/point_io.h"
 #include "testpieces/brep.h"
-#include "testpieces/named_pieces.h"
-#include "testpieces/piece_config.h"
 #include "testpieces/probing_plan.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::cli {
-namespace {
-
-constexpr const char* kDensityHelp =
-    "probing density: paper (as configured; the defaults are seed 002's plan: 16 points per circle, 8 per hole, "
-    "one circle per face), dense (64 points per circle, 5 levels per face, 16 per hole, 3 levels per hole), or "
-    "N: N points per circle and N/2 (>= 3) per hole, the rest as configured";
-
-}  // namespace
-
-Result<BuiltPiece> BuildPiece(const PieceArgs& args) {
-  const std::string& n = args.testpiece;
-  auto named = testpieces::NamedPieceConfig(n);
-  if (!named.ok()) return Status(StatusCode::kInvalidArgument, "--testpiece: " + named.status().message());
-  testpieces::PieceConfig config = named->config;
-  if (!args.config.empty()) {
-    auto loaded = testpieces::LoadPieceConfig(args.config);
-    if (!loaded.ok()) return loaded.status().file().empty() ? loaded.status().WithLocation(args.config) : loaded.status();
-    if (Status s = testpieces::CheckConfigMatchesName(*loaded, *named, n, args.config); !s.ok()) return s;
-    config = std::move(*loaded);
-  }
-
-  // Density.
-  if (args.density.empty() || args.density == "paper") {
-    // the configuration's probing section (its defaults are the paper's plan)
-  } else if (args.density == "dense") {
-    config.probing = testpieces::ProbingOptions::Dense();
-  } else {
-    int per_circle = 0;
-    std::size_t used = 0;
-    try {
-      per_circle = std::stoi(args.density, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != args.density.size() || per_circle < 3)
-      return Status(StatusCode::kInvalidArgument,
-                    "--density: expected paper, dense or a number of points per circle >= 3, got '" + args.density + "'");
-    config.probing.points_per_circle = per_circle;
-    config.probing.points_per_hole = std::max(3, per_circle / 2);
-  }
-  if (args.levels < 0) return Status(StatusCode::kInvalidArgument, "--levels must be >= 1");
-  if (args.levels > 0) config.probing.levels_per_face = args.levels;
-  if (Status s = config.Validate(); !s.ok()) return args.config.empty() ? s : s.WithLocation(args.config);
-
-  BuiltPiece out;
-  if (!args.machine.empty()) {
-    auto m = kinematics::LoadMachineModel(args.machine);
-    if (!m.ok()) return m.status().file().empty() ? m.status().WithLocation(args.machine) : m.status();
-    out.machine = std::move(*m);
-  } else {
-    // The piece's usual machine: A/C table for the turning piece and the cone, 3-axis for M1, M2.
-    auto m = kinematics::MakeMachine(testpieces::UsualMachine(config));
-    if (!m.ok()) return m.status();
-    out.machine = std::move(*m);
-  }
-  auto piece = testpieces::MakeTestPiece(config, out.machine);
-  if (!piece.ok()) {
-    Status s = piece.status().WithContext("test piece " + n);
-    return args.config.empty() || !s.file().empty() ? s : s.WithLocation(args.config);
-  }
-  out.piece = std::move(*piece);
-  return out;
-}
-
-void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required) {
-  sub->add_option("--testpiece", args->testpiece, "test piece: " + testpieces::PieceNameList() +
-                      " (iso10791_m1 = iso10791_m1_320; *_enriched: the variants proposed for the diagnosis, "
-                      "samples/testpieces/)")->required();
-  sub->add_option("--config", args->config,
-                  "test-piece configuration YAML (schema tpcal.testpiece/1, samples/testpieces/): dimensions in mm, "
-                  "probing density, time model; default: the piece's documented defaults (testpieces/README.md)");
-  auto* m = sub->add_option("--machine", args->machine,
-                            machine_required ? "machine model YAML (schema tpcal.machine/1, samples/machines/)"
-                                             : "machine model YAML (schema tpcal.machine/1, samples/machines/); "
-                                               "default: nominal A/C swiveling table (turning, cone_frustum) or "
-                                               "3-axis (M1, M2), pivots at the origin");
-  if (machine_required) m->required();
-  sub->add_option("--density", args->density, kDensityHelp);
-  sub->add_option("--levels", args->levels,
-                  "probing levels (circles or lines) per face, spread over the probe-able band; default as configured (1)");
-}
-
-Status CheckDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& paths) {
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    for (std::size_t j = i + 1; j < paths.size(); ++j) {
-      if (paths[i].second.empty() || paths[j].second.empty()) continue;
-      // absolute() first: libstdc++'s weakly_canonical leaves a relative path with no existing
-      // prefix unchanged ("x.csv" vs "./x.csv").
-      std::error_code ec_i, ec_j;
-      const auto a = std::filesystem::weakly_canonical(std::filesystem::absolute(paths[i].second), ec_i);
-      const auto b = std::filesystem::weakly_canonical(std::filesystem::absolute(paths[j].second), ec_j);
-      if (paths[i].second == paths[j].second || (!ec_i && !ec_j && a == b))
-        return Status(StatusCode::kInvalidArgument,
-                      paths[i].first + " and " + paths[j].first + " name the same file '" + paths[i].second + "'");
-    }
-  }
-  return Status::Ok();
-}
-
-Status WriteEffectiveConfig(const std::string& path, const BuiltPiece& built) {
-  if (path.empty()) return Status::Ok();
-  return pipeline::WriteFileAtomic(path, testpieces::FormatPieceConfig(built.piece.config));
-}
-
 namespace {
 
 struct PlanArgs {

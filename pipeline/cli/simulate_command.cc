@@ -73,7 +73,7 @@ std::string RigidYaml(const Rigid3& t) {
 }
 
 // The stated truth of a simulated measurement (schema tpcal.simulation_truth/1).
-std::string TruthYaml(const SimulateArgs& args, const BuiltPiece& built, const kinematics::ErrorState& errors,
+std::string TruthYaml(const SimulateArgs& args, const pipeline::LoadedPiece& built, const kinematics::ErrorState& errors,
                       const testpieces::ProcessEffects& process, const testpieces::SimulatedPiece& sim) {
   const testpieces::TestPiece& piece = built.piece;
   std::string y;
