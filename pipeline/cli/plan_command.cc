@@ -4,21 +4,18 @@
 // Writes the CMM probing plan of a test piece as the `tpcal plan v1` CSV (docs/formats/probing_plan.md):
 // nominal points and outward normals in the part's DATUM frame, then op, t_s, the
 // rotary axes (A_deg/B_deg, C_deg: those the machine has), X_mm, Y_mm, Z_mm of the machine
-// state that cut each point. Thin: testpieces builds the piece and the plan, pipeline writes.
+// state that cut each point (pipeline/plan_stage.h).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <memory>
 #include <string>
-#include <variant>
 
-#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
-#include "pipeline/io/point_io.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/plan_stage.h"
 #include "testpieces/brep.h"
-#include "testpieces/probing_plan.h"
-#include "testpieces/test_piece.h"
 
 namespace tpcal::cli {
 namespace {
@@ -30,34 +27,6 @@ struct PlanArgs {
   std::string write_config;
 };
 
-// The plan as a contract PointSet: datum-frame points and normals, then the extra columns.
-PointSet PlanAsPointSet(const testpieces::ProbingPlan& plan, const kinematics::MachineModel& machine) {
-  PointSet ps = testpieces::PlanPointSet(plan);
-  // No negative zeros in the file ("-0" reads back as 0 but looks like a sign).
-  for (auto* v : {&ps.xyz_mm, &ps.normal})
-    for (Eigen::Vector3d& p : *v) p = p.array() + 0.0;
-  const std::vector<testpieces::PlanRow> rows = testpieces::PlanRows(plan);
-  for (const std::string& col : testpieces::PlanExtraColumns(machine)) {
-    PointAttribute a;
-    a.name = col;
-    a.values.reserve(rows.size());
-    for (const testpieces::PlanRow& r : rows) {
-      double v = 0;
-      if (col == "op") v = r.op;
-      else if (col == "t_s") v = r.t_s;
-      else if (col == "A_deg") v = r.a_deg;
-      else if (col == "B_deg") v = r.b_deg;
-      else if (col == "C_deg") v = r.c_deg;
-      else if (col == "X_mm") v = r.x_mm;
-      else if (col == "Y_mm") v = r.y_mm;
-      else if (col == "Z_mm") v = r.z_mm;
-      a.values.push_back(v);
-    }
-    ps.attributes.push_back(std::move(a));
-  }
-  return ps;
-}
-
 int RunPlan(const PlanArgs& args) {
   if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--step", args.step}, {"--write-config", args.write_config}});
       !s.ok())
@@ -67,14 +36,8 @@ int RunPlan(const PlanArgs& args) {
   Info(fmt::format("tpcal plan: {} on {}, {} operations, {:.1f} min of machining", built->piece.name,
                    kinematics::MachineTypeName(built->machine.type), built->piece.operations.size(),
                    built->piece.duration_s() / 60.0));
-  auto plan = testpieces::MakeProbingPlan(built->piece);
-  if (!plan.ok()) return ReportError(plan.status().WithContext("probing plan of " + built->piece.name));
-  const PointSet ps = PlanAsPointSet(*plan, built->machine);
-  pipeline::PointWriteOptions wo;
-  wo.kind = pipeline::PointFileKind::kPlan;
-  // Format first: a row the dialect cannot hold fails before anything is written.
-  auto text = pipeline::FormatPointCsv(ps, wo);
-  if (!text.ok()) return ReportError(text.status().WithLocation(args.out));
+  auto plan = pipeline::RunPlanStage(*built, args.out);
+  if (!plan.ok()) return ReportError(plan.status());
 
   if (!args.step.empty()) {
     Info("building the B-rep (OpenCASCADE) for " + args.step);
@@ -83,8 +46,9 @@ int RunPlan(const PlanArgs& args) {
     if (!s.ok()) return ReportError(s.file().empty() ? s.WithLocation(args.step) : s);
     Info("wrote " + args.step);
   }
-  if (Status s = pipeline::WriteFileAtomic(args.out, *text); !s.ok()) return ReportError(s);
-  Info(fmt::format("wrote {}: {} points on {} features (datum frame, mm)", args.out, ps.size(), ps.feature_names.size()));
+  if (Status s = pipeline::WriteFileAtomic(args.out, plan->csv); !s.ok()) return ReportError(s);
+  Info(fmt::format("wrote {}: {} points on {} features (datum frame, mm)", args.out, plan->points.size(),
+                   plan->points.feature_names.size()));
   if (Status s = WriteEffectiveConfig(args.write_config, *built); !s.ok()) return ReportError(s);
   if (!args.write_config.empty()) Info("wrote " + args.write_config);
   return kExitOk;
