@@ -10,14 +10,14 @@
 
 #include <cmath>
 
-#include "pipeline/piece_setup.h"
+#include "pipeline/piece_loader.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
 namespace {
 
 TEST(AxisProfiles, CRadialErrorMotionAtA0FromS1AndS4) {
-  auto setup = LoadPieceSetup("turning");
+  auto setup = LoadPiece({.testpiece = "turning"});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   kinematics::ErrorState errors(setup->machine);
   kinematics::ErrorTerm radial;
@@ -30,7 +30,7 @@ TEST(AxisProfiles, CRadialErrorMotionAtA0FromS1AndS4) {
   radial.is_sine = {false, true};
   radial.coefficients = {2e-3, 1e-3};  // mm
   ASSERT_TRUE(errors.AddTerm(setup->machine, radial).ok());
-  testpieces::PieceConfig dense = setup->config;
+  testpieces::PieceConfig dense = setup->piece.config;
   dense.probing.points_per_circle = 72;
   auto piece = testpieces::MakeTestPiece(dense, setup->machine);
   ASSERT_TRUE(piece.ok()) << piece.status().ToString();
@@ -65,7 +65,7 @@ TEST(AxisProfiles, CRadialErrorMotionAtA0FromS1AndS4) {
 }
 
 TEST(AxisProfiles, StraightnessOfXFromTheM1SideFaces) {
-  auto setup = LoadPieceSetup("iso10791_m1_160");
+  auto setup = LoadPiece({.testpiece = "iso10791_m1_160"});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   kinematics::ErrorState errors(setup->machine);
   ASSERT_TRUE(errors.SetParameter(setup->machine, "E_C(0X)Y", 20e-6).ok());

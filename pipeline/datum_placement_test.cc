@@ -12,7 +12,7 @@
 #include "kinematics/error_parameters.h"
 #include "kinematics/error_state.h"
 #include "pipeline/identify_stage.h"
-#include "pipeline/piece_setup.h"
+#include "pipeline/piece_loader.h"
 #include "testpieces/default_parameters.h"
 #include "testpieces/simulate_piece.h"
 
@@ -25,7 +25,7 @@ constexpr double kSigmaTol_um = 0.15;  // sample sigma of a few hundred residual
 // Every parameter of the piece's default identification set at a small value (5, 8, 11 ...
 // um or urad, alternating sign; a polynomial error-motion coefficient "E_ZX.cP" such that the
 // term reaches that value at 100 mm of axis travel).
-Result<kinematics::ErrorState> SmallLocationErrors(const PieceSetup& setup) {
+Result<kinematics::ErrorState> SmallLocationErrors(const LoadedPiece& setup) {
   kinematics::ErrorState errors(setup.machine);
   const auto names = testpieces::DefaultParameterSet(setup.piece, setup.machine);
   auto active = kinematics::ActivateParameters(setup.machine, &errors, names);
@@ -53,10 +53,9 @@ class DatumPlacement : public ::testing::TestWithParam<Case> {};
 
 TEST_P(DatumPlacement, IdentifiesUnderRandomPlacement) {
   const std::string name = GetParam().piece;
-  auto setup = LoadPieceSetup(name, "",
-                              GetParam().machine.empty()
-                                  ? ""
-                                  : std::string(TPCAL_SOURCE_DIR) + "/samples/machines/" + GetParam().machine + ".yaml");
+  const std::string machine =
+      GetParam().machine.empty() ? "" : std::string(TPCAL_SOURCE_DIR) + "/samples/machines/" + GetParam().machine + ".yaml";
+  auto setup = LoadPiece({.testpiece = name, .machine_path = machine});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   auto errors = SmallLocationErrors(*setup);
   ASSERT_TRUE(errors.ok()) << errors.status().ToString();

@@ -94,6 +94,27 @@ void NameAsAsked(const kinematics::ErrorState& base, const kinematics::ActiveSet
 
 }  // namespace
 
+kinematics::IdentifyOptions IdentifyOptionsFor(const std::string& uncertainty, int mc_trials, int subset_trials,
+                                               std::uint64_t seed) {
+  kinematics::IdentifyOptions o;
+  o.seed = seed;
+  if (uncertainty == "analytic") {
+    o.primary = kinematics::UncertaintyMethod::kAnalytic;
+    o.jackknife_groups = false;
+  } else if (uncertainty == "mc") {
+    o.primary = kinematics::UncertaintyMethod::kMonteCarlo;
+    o.monte_carlo_trials = mc_trials;
+    o.jackknife_groups = false;
+  } else if (uncertainty == "jackknife") {
+    o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
+  } else {  // all
+    o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
+    o.monte_carlo_trials = mc_trials;
+  }
+  o.random_subset_trials = subset_trials;
+  return o;
+}
+
 Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine, const PointSet& measured,
                                              const IdentifyStageOptions& options) {

@@ -47,6 +47,13 @@ struct IdentifyStageResult {
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
 };
 
+// The identification options of `tpcal identify --uncertainty CHOICE`: jackknife (delete one point,
+// and one feature), analytic (Gauss-Newton), mc (GUM S1 Monte Carlo with mc_trials) or anything
+// else = all (primary jackknife, Monte Carlo with mc_trials beside it); random_subset_trials and
+// the seed as given.
+kinematics::IdentifyOptions IdentifyOptionsFor(const std::string& uncertainty, int mc_trials, int subset_trials,
+                                               std::uint64_t seed);
+
 // Errors (file:line where a point is at fault): those of gdt::EvaluatePlan and
 // testpieces::AssociatePoints (fail policy), unknown parameters, invalid scan-cell options, and
 // those of kinematics::Identify.

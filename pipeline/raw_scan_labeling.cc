@@ -14,6 +14,7 @@
 #include <optional>
 #include "core/parallel.h"
 
+#include "pipeline/io/point_io.h"
 #include "testpieces/probing_plan.h"
 
 namespace tpcal::pipeline {
@@ -652,6 +653,15 @@ Result<std::optional<RawScanLabeling>> LabelIfRawScan(const testpieces::TestPiec
   labelled->labelled = PointSet{};
   labelled->piece_feature.clear();
   return std::optional<RawScanLabeling>(std::move(*labelled));
+}
+
+Result<LabelledPoints> ReadLabelledPoints(const std::string& path, const testpieces::TestPiece& piece,
+                                          const RawScanLabelingOptions& options) {
+  auto points = ReadPoints(path);
+  if (!points.ok()) return points.status();
+  auto labelled = LabelIfRawScan(piece, &*points, options);
+  if (!labelled.ok()) return labelled.status();
+  return LabelledPoints{std::move(*points), std::move(*labelled)};
 }
 
 }  // namespace tpcal::pipeline

@@ -122,4 +122,12 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
 Result<std::optional<RawScanLabeling>> LabelIfRawScan(const testpieces::TestPiece& piece, PointSet* points,
                                                       const RawScanLabelingOptions& options = {});
 
+struct LabelledPoints {
+  PointSet points;                          // labelled (a raw scan: its labelled points)
+  std::optional<RawScanLabeling> raw_scan;  // set when the file was a raw scan (LabelIfRawScan)
+};
+// Reads a point file (ReadPoints) and labels it if it is a raw scan (LabelIfRawScan). Errors: theirs.
+Result<LabelledPoints> ReadLabelledPoints(const std::string& path, const testpieces::TestPiece& piece,
+                                          const RawScanLabelingOptions& options = {});
+
 }  // namespace tpcal::pipeline

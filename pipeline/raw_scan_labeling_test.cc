@@ -17,7 +17,7 @@
 
 #include "kinematics/error_state.h"
 #include "pipeline/io/point_io.h"
-#include "pipeline/run_config.h"
+#include "pipeline/piece_loader.h"
 #include "testpieces/simulate_piece.h"
 
 namespace tpcal::pipeline {
@@ -39,7 +39,7 @@ struct Simulated {
 // on 2 levels per hole; the seed 002 Table 2 errors scaled to tens of um; 0.5 um noise.
 const Simulated& Scan() {
   static const Simulated s = [] {
-    auto setup = LoadRunPiece("turning", "");
+    auto setup = LoadPiece({.testpiece = "turning"});
     EXPECT_TRUE(setup.ok()) << setup.status().ToString();
     kinematics::ErrorState errors(setup->machine);
     EXPECT_TRUE(errors.SetParameter(setup->machine, "dx_CR(0)", 0.030).ok());     // mm
@@ -316,7 +316,7 @@ TEST_P(RawScanBundledSample, LabelsComeBack) {
   const std::string name = GetParam();
   auto file = ReadPoints(dir + name + "/cmm_points.csv");
   ASSERT_TRUE(file.ok()) << file.status().ToString();
-  auto setup = LoadRunPiece(name == "m1" ? "iso10791_m1" : "turning", "");
+  auto setup = LoadPiece({.testpiece = name == "m1" ? "iso10791_m1" : "turning"});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   PointSet scan = *file;
   scan.feature.assign(scan.size(), PointSet::kUnlabelled);
@@ -340,7 +340,7 @@ TEST_P(RawScanBundledSample, LabelsComeBack) {
 class RawScanEveryPiece : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RawScanEveryPiece, DefaultPlanInRandomPlacement) {
-  auto setup = LoadRunPiece(GetParam(), "");
+  auto setup = LoadPiece({.testpiece = GetParam()});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   kinematics::ErrorState errors(setup->machine);
   testpieces::PieceSimOptions o;

@@ -276,28 +276,4 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   return std::string(e.c_str()) + "\n";
 }
 
-Result<RunPiece> LoadRunPiece(const std::string& testpiece, const std::string& machine_path) {
-  Result<testpieces::PieceConfig> config = Status(StatusCode::kInternal, "unset");
-  if (testpiece.ends_with(".yaml") || testpiece.ends_with(".yml")) {
-    config = testpieces::LoadPieceConfig(testpiece);
-  } else {
-    auto named = testpieces::NamedPieceConfig(testpiece);
-    if (!named.ok())
-      return Status(StatusCode::kInvalidArgument, "unknown test piece '" + testpiece + "' (expected one of: " +
-                                                      testpieces::PieceNameList() + ", or a tpcal.testpiece/1 file)");
-    config = std::move(named->config);
-  }
-  if (!config.ok()) return config.status();
-  Result<kinematics::MachineModel> machine = Status(StatusCode::kInternal, "unset");
-  if (!machine_path.empty()) {
-    machine = kinematics::LoadMachineModel(machine_path);
-  } else {
-    machine = kinematics::MakeMachine(testpieces::UsualMachine(*config));
-  }
-  if (!machine.ok()) return machine.status();
-  auto piece = testpieces::MakeTestPiece(*config, *machine);
-  if (!piece.ok()) return piece.status();
-  return RunPiece{std::move(*piece), std::move(*machine)};
-}
-
 }  // namespace tpcal::pipeline

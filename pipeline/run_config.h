@@ -29,10 +29,8 @@
 
 #include "core/status.h"
 #include "kinematics/identification.h"
-#include "kinematics/machine_model.h"
 #include "pipeline/scan_cells.h"
 #include "pipeline/report/svg_figures.h"
-#include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
 
@@ -71,15 +69,5 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
 std::string FormatPipelineConfig(const PipelineConfig& config);
 
 std::optional<kinematics::UncertaintyMethod> ParseUncertaintyMethod(const std::string& name);
-
-// The test piece and the machine it is evaluated on.
-struct RunPiece {
-  testpieces::TestPiece piece;
-  kinematics::MachineModel machine;
-};
-// `testpiece`: a kind name ("turning", "iso10791_m1", "iso10791_m2", "cone_frustum") or a
-// tpcal.testpiece/1 file; `machine_path`: tpcal.machine/1 file or "" for the kind's nominal
-// machine (ac_table for turning and cone_frustum, xyz otherwise).
-Result<RunPiece> LoadRunPiece(const std::string& testpiece, const std::string& machine_path);
 
 }  // namespace tpcal::pipeline

@@ -97,7 +97,7 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
 }
 
 Result<SimulatedSample> SimulateSample(const SampleTruth& truth) {
-  auto setup = LoadRunPiece(truth.testpiece, truth.machine);
+  auto setup = LoadPiece({.testpiece = truth.testpiece, .machine_path = truth.machine, .allow_piece_file = true});
   if (!setup.ok()) return setup.status();
   auto errors = kinematics::ParseErrorState(truth.errors_yaml, truth.source + " (errors)", setup->machine);
   if (!errors.ok()) return errors.status();
@@ -139,7 +139,7 @@ Result<std::map<std::string, double>> LoadTruthValues(const std::string& truth_p
                                                       const std::vector<std::string>& coefficient_names) {
   auto truth = LoadSampleTruth(truth_path);
   if (!truth.ok()) return truth.status();
-  auto setup = LoadRunPiece(truth->testpiece, truth->machine);
+  auto setup = LoadPiece({.testpiece = truth->testpiece, .machine_path = truth->machine, .allow_piece_file = true});
   if (!setup.ok()) return setup.status();
   auto errors = kinematics::ParseErrorState(truth->errors_yaml, truth->source + " (errors)", setup->machine);
   if (!errors.ok()) return errors.status();

@@ -28,6 +28,7 @@
 
 #include "core/status.h"
 #include "kinematics/error_state.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/run_config.h"
 #include "testpieces/simulate_piece.h"
 
@@ -47,7 +48,7 @@ struct SampleTruth {
 Result<SampleTruth> LoadSampleTruth(const std::string& path);
 
 struct SimulatedSample {
-  RunPiece setup;
+  LoadedPiece setup;
   kinematics::ErrorState errors;
   testpieces::SimulatedPiece simulated;
 };

@@ -7,6 +7,7 @@
 #include "kinematics/error_state.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/io/file_bytes.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "pipeline/run_sample.h"
 #include "pipeline/io/xxh64.h"
@@ -47,7 +48,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   StageClock clock(&timings, options.progress);
 
   clock.Start("setup");
-  auto setup = LoadRunPiece(config.testpiece, config.machine);
+  auto setup = LoadPiece({.testpiece = config.testpiece, .machine_path = config.machine, .allow_piece_file = true});
   if (!setup.ok()) return setup.status();
 
   clock.Start("read");

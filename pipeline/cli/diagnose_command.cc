@@ -14,17 +14,16 @@
 #include <vector>
 
 #include "kinematics/errors_yaml.h"
-#include "kinematics/machine_yaml.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/diagnosis/diagnosis_validate.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "testpieces/named_pieces.h"
-#include "testpieces/piece_config.h"
 
 namespace tpcal::cli {
 namespace {
@@ -52,33 +51,14 @@ struct DiagnoseArgs {
   bool testpiece_given = false;  // --testpiece was on the command line (not the default)
 };
 
-struct Setup {
-  kinematics::MachineModel machine;
-  testpieces::TestPiece piece;
-};
+using Setup = pipeline::LoadedPiece;
 
 // NAME (testpieces/named_pieces.h) or a piece config file; with both, the file must be for the
 // named piece (testpiece_given: --testpiece was on the command line, not the default).
 Result<Setup> LoadSetup(const DiagnoseArgs& a, bool testpiece_given) {
-  auto named = testpieces::NamedPieceConfig(a.testpiece);
-  if (!named.ok()) return Status(StatusCode::kInvalidArgument, "--testpiece: " + named.status().message() + " (or --config FILE)");
-  Result<testpieces::PieceConfig> config = named->config;
-  if (!a.config.empty()) {
-    config = testpieces::LoadPieceConfig(a.config);
-    if (config.ok() && testpiece_given)
-      if (Status s = testpieces::CheckConfigMatchesName(*config, *named, a.testpiece, a.config); !s.ok()) return s;
-  }
-  if (!config.ok()) return config.status();
-  Result<kinematics::MachineModel> machine = Status(StatusCode::kInvalidArgument, "no machine");
-  if (!a.machine.empty()) {
-    machine = kinematics::LoadMachineModel(a.machine);
-  } else {
-    machine = kinematics::MakeMachine(testpieces::UsualMachine(*config));
-  }
-  if (!machine.ok()) return machine.status();
-  auto piece = testpieces::MakeTestPiece(*config, *machine);
-  if (!piece.ok()) return piece.status();
-  return Setup{std::move(*machine), std::move(*piece)};
+  return pipeline::LoadPiece({.testpiece = a.testpiece, .config_path = a.config, .machine_path = a.machine,
+                              .config_must_match_name = testpiece_given,
+                              .wording = {.unknown_name_prefix = "--testpiece: ", .unknown_name_suffix = " (or --config FILE)"}});
 }
 
 int RunValidate(const DiagnoseArgs& args, const Setup& setup) {

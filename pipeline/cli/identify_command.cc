@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/io/atomic_file.h"
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/identify_json.h"
-#include "pipeline/piece_setup.h"
-#include "pipeline/io/point_io.h"
+#include "pipeline/identify_summary.h"
+#include "pipeline/io/atomic_file.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
 #include "testpieces/named_pieces.h"
 
@@ -34,85 +34,28 @@ struct IdentifyArgs {
   std::string json;
 };
 
-std::string Fixed(double v, int digits = 2) { return fmt::format("{:.{}f}", v, digits); }
-
-void PrintSummary(const pipeline::IdentificationReport& r) {
-  const auto& id = r.stage.identification;
-  std::cout << fmt::format("{} on {}: {} points in {} features; residual RMS {} um before, {} um after (sigma {} um)\n\n",
-                           r.testpiece, r.machine, id.num_observations, id.num_groups, Fixed(id.rms_before_um, 3),
-                           Fixed(id.rms_after_um, 3), Fixed(id.sigma_um, 3));
-  std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}\n", "parameter", "value", "unit",
-                           "u_anal", "u_jk_pt", "u_jk_ft", "95 % interval", "ISO 230-1");
-  for (const auto& p : id.parameters) {
-    if (!p.identifiable) {
-      std::cout << fmt::format("{:<15} {:>9} {:<5}   not identifiable from this piece (see combinations)  {}\n",
-                               p.name, "-", p.unit, p.iso_symbol);
-      continue;
-    }
-    auto u_of = [&](kinematics::UncertaintyMethod m) {
-      for (const auto& u : p.uncertainties)
-        if (u.method == m && u.available) return Fixed(u.u);
-      return std::string("-");
-    };
-    const std::string subset = u_of(kinematics::UncertaintyMethod::kRandomSubsets);
-    std::cout << fmt::format("{:<15} {:>9} {:<5} {:>8} {:>8} {:>8} {:>19}  {}{}\n", p.name, Fixed(p.value), p.unit,
-                             u_of(kinematics::UncertaintyMethod::kAnalytic),
-                             u_of(kinematics::UncertaintyMethod::kJackknifePoints),
-                             u_of(kinematics::UncertaintyMethod::kJackknifeGroups),
-                             "[" + Fixed(p.ci95_low) + ", " + Fixed(p.ci95_high) + "]", p.iso_symbol,
-                             subset == "-" ? std::string() : "  (random subsets: u " + subset + ")");
-  }
-  const auto& ident = id.identifiability;
-  std::cout << fmt::format("\nidentifiability: rank {} of {}, condition number {:.3g}\n", ident.rank,
-                           ident.num_parameters, ident.condition_number);
-  for (const auto& c : ident.estimable)
-    std::cout << fmt::format("  only the combination {} = {} +- {} is determined\n", c.text, Fixed(c.value), Fixed(c.u));
-  for (const auto& m : r.error_motion)
-    std::cout << fmt::format("C error motion {} ({}): radial P-V {} um, tilt P-V {} urad\n", m.name, m.faces,
-                             Fixed(m.profile.radial_pv_um), Fixed(m.profile.tilt_pv_urad));
-  for (const auto& s : r.straightness)
-    std::cout << fmt::format("straightness {} from {}: {} um (LS P-V), {} um (minimum zone)\n", s.name, s.feature,
-                             Fixed(s.pv_ls_um), Fixed(s.mz_um));
-}
-
 int RunIdentify(const IdentifyArgs& args) {
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
-  auto setup = pipeline::LoadPieceSetup(args.testpiece, args.config, args.machine);
+  auto setup = pipeline::LoadPiece({.testpiece = args.testpiece, .config_path = args.config, .machine_path = args.machine,
+                                    .wording = {.name_piece_errors = true}});
   if (!setup.ok()) return ReportError(setup.status());
-  auto points = pipeline::ReadPoints(args.points);
+  auto points = pipeline::ReadLabelledPoints(args.points, setup->piece, *labelling);
   if (!points.ok()) return ReportError(points.status());
-  auto labelled = pipeline::LabelIfRawScan(setup->piece, &*points, *labelling);  // a raw scan: label it first
-  if (!labelled.ok()) return ReportError(labelled.status());
-  if (labelled->has_value()) Info("raw scan labelled: " + (*labelled)->BriefReport());
+  if (points->raw_scan) Info("raw scan labelled: " + points->raw_scan->BriefReport());
 
   pipeline::IdentifyStageOptions options;
   options.parameters = args.parameters;
-  auto& o = options.identify;
-  o.seed = args.seed;
-  if (args.uncertainty == "analytic") {
-    o.primary = kinematics::UncertaintyMethod::kAnalytic;
-    o.jackknife_groups = false;
-  } else if (args.uncertainty == "mc") {
-    o.primary = kinematics::UncertaintyMethod::kMonteCarlo;
-    o.monte_carlo_trials = args.mc_trials;
-    o.jackknife_groups = false;
-  } else if (args.uncertainty == "jackknife") {
-    o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
-  } else {  // all
-    o.primary = kinematics::UncertaintyMethod::kJackknifePoints;
-    o.monte_carlo_trials = args.mc_trials;
-  }
-  o.random_subset_trials = args.subset_trials;
-  Info(fmt::format("tpcal identify: {} points of the {} from {}", points->size(), setup->piece.name, args.points));
-  auto report = pipeline::BuildIdentificationReport(setup->piece, setup->machine, *points, options);
+  options.identify = pipeline::IdentifyOptionsFor(args.uncertainty, args.mc_trials, args.subset_trials, args.seed);
+  Info(fmt::format("tpcal identify: {} points of the {} from {}", points->points.size(), setup->piece.name, args.points));
+  auto report = pipeline::BuildIdentificationReport(setup->piece, setup->machine, points->points, options);
   if (!report.ok()) return ReportError(report.status());
   const std::string json = pipeline::IdentificationJson(*report);
   if (args.json == "-") {
     std::cout << json;
     return kExitOk;
   }
-  PrintSummary(*report);
+  std::cout << pipeline::IdentificationSummary(*report);
   if (!args.json.empty()) {
     if (Status s = pipeline::WriteFileAtomic(args.json, json); !s.ok()) return ReportError(s);
     Info("wrote " + args.json);

@@ -1,6 +1,6 @@
 // The test-piece options `tpcal plan` and `tpcal simulate` share: --testpiece NAME, --config
-// TP.yaml, --machine M.yaml, --density, --levels, turned into a built piece (defined in
-// plan_command.cc). CLI layer only.
+// TP.yaml, --machine M.yaml, --density, --levels, turned into a built piece (pipeline/piece_loader.h).
+// CLI layer only.
 #pragma once
 
 #include <string>
@@ -8,8 +8,7 @@
 #include <vector>
 
 #include "core/status.h"
-#include "kinematics/machine_model.h"
-#include "testpieces/test_piece.h"
+#include "pipeline/piece_loader.h"
 
 namespace CLI {
 class App;
@@ -26,24 +25,19 @@ struct PieceArgs {
   int levels = 0;       // 0: as configured; else probing.levels_per_face
 };
 
-struct BuiltPiece {
-  kinematics::MachineModel machine;
-  testpieces::TestPiece piece;  // piece.config.probing is the effective density
-};
-
 // Adds --testpiece, --config, --machine, --density, --levels to `sub`.
 void AddPieceOptions(CLI::App* sub, PieceArgs* args, bool machine_required);
 
 // Builds the piece. Without --machine: nominal ac_table for turning and cone_frustum, xyz for M1
 // and M2. Errors (file:line where a file is at fault): unknown NAME, a config for another piece,
 // bad density, config / machine file errors, a machine the piece cannot be cut on.
-Result<BuiltPiece> BuildPiece(const PieceArgs& args);
+Result<pipeline::LoadedPiece> BuildPiece(const PieceArgs& args);
 
 // Error (kInvalidArgument) if two of the non-empty output paths name the same file: one would
 // silently overwrite the other. `paths` are (option, path) pairs.
 Status CheckDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& paths);
 
 // Writes the effective test-piece configuration (every key) to `path` atomically; no-op if empty.
-Status WriteEffectiveConfig(const std::string& path, const BuiltPiece& built);
+Status WriteEffectiveConfig(const std::string& path, const pipeline::LoadedPiece& built);
 
 }  // namespace tpcal::cli
