@@ -1,6 +1,6 @@
 // libFuzzer target: the QIF 3.0 results reader (pipeline/io/qif_reader.h) on arbitrary bytes,
 // with every option combination. It must return a value or a located kParseError, never crash,
-// hang or leak. Seeds: tests/fuzz/corpus/qif/.
+// hang or leak. Seeds: tests/fuzz/corpus/qif/, dictionary tests/fuzz/qif.dict.
 #include <cstddef>
 #include <cstdint>
 #include <string>
