@@ -53,16 +53,122 @@ struct Withheld {
 
 struct AxisRange { double lo = 1e300, hi = -1e300; };
 
+// The withheld machine terms: one effect item (kinematics/errors_yaml.md), parsed for `machine`.
+Status ParseWithheld(const std::string& item, const kinematics::MachineModel& machine, Withheld* w) {
+  auto s = kinematics::ParseErrorState("effects: [" + item + "]", "<validation effect>", machine);
+  if (!s.ok()) return s.status();
+  w->terms = std::move(*s);
+  w->detail = item;
+  return {};
+}
+
+// Translations of the table (motor heat, coolant) and, since the candidates drift translations
+// only, tilts of the C line and the Z column's squareness (spindle and column heat), which they
+// can follow only in part.
+Status WithheldDrift(const kinematics::MachineModel& machine, bool rotary, double duration_s, std::mt19937_64& rng,
+                     Withheld* w) {
+  const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C", "E_A0C", "E_B0C", "E_B(0X)Z"};
+  const char* squareness[] = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
+  const std::string p = rotary ? params[Pick(rng, 9)] : squareness[Pick(rng, 3)];
+  const std::string unit = rotary && p.size() == 5 && p[3] == '0' && (p[2] == 'X' || p[2] == 'Y' || p[2] == 'Z') ? "um" : "urad";
+  if (Pick(rng, 10) < 7) {
+    const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
+    return ParseWithheld(fmt::format("{{thermal_drift: {{parameter: {}, K_{}: {}, tau_s: {}}}}}", p, unit, RandomSign(rng), tau),
+                         machine, w);
+  }
+  return ParseWithheld(fmt::format("{{thermal_drift: {{parameter: {}, rate_{}_per_h: {}}}}}", p, unit, RandomSign(rng)),
+                       machine, w);
+}
+
+// A 5-node cubic table over the axis range the plan uses, random values, linear trend removed.
+Status WithheldStraightness(const kinematics::MachineModel& machine, const testpieces::ProbingPlan& plan,
+                            std::mt19937_64& rng, Withheld* w) {
+  const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
+  const std::string s = syms[Pick(rng, 6)];
+  const char axis = s[3];
+  AxisRange r;
+  for (const auto& pp : plan.points) {
+    const double q = axis == 'X' ? pp.cut.axes.x_mm : axis == 'Y' ? pp.cut.axes.y_mm : pp.cut.axes.z_mm;
+    r.lo = std::min(r.lo, q), r.hi = std::max(r.hi, q);
+  }
+  if (r.hi - r.lo < 2.0) r.lo -= 1.0, r.hi += 1.0;
+  const int nodes = 5;
+  std::vector<double> pos(nodes), val(nodes);
+  for (int k = 0; k < nodes; ++k) pos[k] = r.lo - 1.0 + (r.hi - r.lo + 2.0) * k / (nodes - 1), val[k] = Uniform(rng, -1, 1);
+  // remove the linear trend (that part is squareness / angular error, in the base)
+  double mp = 0, mv = 0;
+  for (int k = 0; k < nodes; ++k) mp += pos[k] / nodes, mv += val[k] / nodes;
+  double sxy = 0, sxx = 0;
+  for (int k = 0; k < nodes; ++k) sxy += (pos[k] - mp) * (val[k] - mv), sxx += (pos[k] - mp) * (pos[k] - mp);
+  for (int k = 0; k < nodes; ++k) val[k] -= mv + sxy / sxx * (pos[k] - mp);
+  return ParseWithheld(fmt::format("{{linear_error_motion: {{symbol: {}, positions_mm: [{}], values_um: [{}], interpolation: cubic}}}}",
+                                   s, fmt::join(pos, ", "), fmt::join(val, ", ")),
+                       machine, w);
+}
+
+Status WithheldPositioning(const kinematics::MachineModel& machine, std::mt19937_64& rng, Withheld* w) {
+  const char* syms[] = {"E_XX", "E_YY", "E_ZZ"};
+  const std::string s = syms[Pick(rng, 3)];
+  const double c1 = RandomSign(rng) * 1e-3, c2 = Pick(rng, 2) ? Uniform(rng, -1, 1) * 2e-6 : 0.0;
+  return ParseWithheld(fmt::format("{{linear_error_motion: {{symbol: {}, coefficients_um_per_mm_pow: [0, {}, {}]}}}}", s, c1, c2),
+                       machine, w);
+}
+
+// One or two random harmonics (orders 2 to 5) of one of E_XC, E_YC, E_ZC, E_AC, E_BC.
+Status WithheldRotaryMotion(const kinematics::MachineModel& machine, std::mt19937_64& rng, Withheld* w) {
+  const char* syms[] = {"E_XC", "E_YC", "E_ZC", "E_AC", "E_BC"};
+  const int si = Pick(rng, 5);
+  const std::string unit = si >= 3 ? "urad" : "um";
+  std::string h;
+  const int n_h = 1 + Pick(rng, 2);
+  std::vector<int> orders;
+  while (static_cast<int>(orders.size()) < n_h) {
+    const int o = 2 + Pick(rng, 4);
+    if (std::find(orders.begin(), orders.end(), o) == orders.end()) orders.push_back(o);
+  }
+  for (int o : orders) {
+    const double ph = Uniform(rng, 0, 2 * kPi);
+    h += fmt::format("{}{{order: {}, cos_{}: {}, sin_{}: {}}}", h.empty() ? "" : ", ", o, unit, std::cos(ph), unit, std::sin(ph));
+  }
+  return ParseWithheld(fmt::format("{{rotary_error_motion: {{symbol: {}, harmonics: [{}]}}}}", syms[si], h), machine, w);
+}
+
+// Random harmonics 1 to 3 of E_CC.
+Status WithheldRotaryPositioning(const kinematics::MachineModel& machine, std::mt19937_64& rng, Withheld* w) {
+  std::string h;
+  for (int o = 1; o <= 3; ++o) {
+    if (o > 1 && Pick(rng, 2)) continue;
+    const double ph = Uniform(rng, 0, 2 * kPi), a = Uniform(rng, 0.3, 1.0);
+    h += fmt::format("{}{{order: {}, cos_urad: {}, sin_urad: {}}}", h.empty() ? "" : ", ", o, a * std::cos(ph), a * std::sin(ph));
+  }
+  return ParseWithheld(fmt::format("{{rotary_error_motion: {{symbol: E_CC, harmonics: [{}]}}}}", h), machine, w);
+}
+
+void WithheldDeflection(std::mt19937_64& rng, Withheld* w) {
+  testpieces::ToolDeflectionModel m;
+  m.compliance_um_per_n = Eigen::Vector3d(Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04));
+  m.passive_ratio = Uniform(rng, 0.2, 0.6);
+  m.feed_ratio = Uniform(rng, 0.1, 0.5);
+  w->process.deflection = m;
+  w->detail = fmt::format("tool deflection, compliance ({:.3f}, {:.3f}, {:.3f}) um/N, Fp/Fc {:.2f}, Ff/Fc {:.2f}",
+                          m.compliance_um_per_n.x(), m.compliance_um_per_n.y(), m.compliance_um_per_n.z(), m.passive_ratio,
+                          m.feed_ratio);
+}
+
+void WithheldServo(std::mt19937_64& rng, Withheld* w) {
+  testpieces::ServoReversalModel m;
+  m.spike_x_um = Uniform(rng, 0.3, 1.0);
+  m.spike_y_um = Uniform(rng, 0.3, 1.0);
+  m.decay_deg = Uniform(rng, 2.0, 8.0);
+  if (Pick(rng, 2)) m.backlash_x_um = Uniform(rng, 0.0, 0.5), m.backlash_y_um = Uniform(rng, 0.0, 0.5);
+  w->process.servo = m;
+  w->detail = fmt::format("servo glitches X {:.2f}, Y {:.2f}, decay {:.1f} deg, backlash X {:.2f}, Y {:.2f}", m.spike_x_um,
+                          m.spike_y_um, m.decay_deg, m.backlash_x_um, m.backlash_y_um);
+}
+
 Result<Withheld> MakeWithheld(const std::string& family, const kinematics::MachineModel& machine,
                               const testpieces::ProbingPlan& plan, double duration_s, std::mt19937_64& rng) {
   Withheld w;
-  auto parse = [&](const std::string& item) -> Status {
-    auto s = kinematics::ParseErrorState("effects: [" + item + "]", "<validation effect>", machine);
-    if (!s.ok()) return s.status();
-    w.terms = std::move(*s);
-    w.detail = item;
-    return {};
-  };
   const bool rotary = machine.HasAxis(kinematics::Axis::kC);
   if (!rotary && (family == "rotary_error_motion" || family == "rotary_positioning")) {
     w.not_applicable = true;
@@ -70,87 +176,19 @@ Result<Withheld> MakeWithheld(const std::string& family, const kinematics::Machi
     return w;
   }
   if (family == "thermal_drift") {
-    // Translations of the table (motor heat, coolant) and, since the candidates drift
-    // translations only, tilts of the C line and the Z column's squareness (spindle and column
-    // heat), which they can follow only in part.
-    const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C", "E_A0C", "E_B0C", "E_B(0X)Z"};
-    const char* squareness[] = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
-    const std::string p = rotary ? params[Pick(rng, 9)] : squareness[Pick(rng, 3)];
-    const std::string unit = rotary && p.size() == 5 && p[3] == '0' && (p[2] == 'X' || p[2] == 'Y' || p[2] == 'Z') ? "um" : "urad";
-    if (Pick(rng, 10) < 7) {
-      const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
-      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, K_{}: {}, tau_s: {}}}}}", p, unit, RandomSign(rng), tau)));
-    } else {
-      TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{thermal_drift: {{parameter: {}, rate_{}_per_h: {}}}}}", p, unit, RandomSign(rng))));
-    }
+    TPCAL_RETURN_IF_ERROR(WithheldDrift(machine, rotary, duration_s, rng, &w));
   } else if (family == "linear_straightness") {
-    const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
-    const std::string s = syms[Pick(rng, 6)];
-    const char axis = s[3];
-    AxisRange r;
-    for (const auto& pp : plan.points) {
-      const double q = axis == 'X' ? pp.cut.axes.x_mm : axis == 'Y' ? pp.cut.axes.y_mm : pp.cut.axes.z_mm;
-      r.lo = std::min(r.lo, q), r.hi = std::max(r.hi, q);
-    }
-    if (r.hi - r.lo < 2.0) r.lo -= 1.0, r.hi += 1.0;
-    const int nodes = 5;
-    std::vector<double> pos(nodes), val(nodes);
-    for (int k = 0; k < nodes; ++k) pos[k] = r.lo - 1.0 + (r.hi - r.lo + 2.0) * k / (nodes - 1), val[k] = Uniform(rng, -1, 1);
-    // remove the linear trend (that part is squareness / angular error, in the base)
-    double mp = 0, mv = 0;
-    for (int k = 0; k < nodes; ++k) mp += pos[k] / nodes, mv += val[k] / nodes;
-    double sxy = 0, sxx = 0;
-    for (int k = 0; k < nodes; ++k) sxy += (pos[k] - mp) * (val[k] - mv), sxx += (pos[k] - mp) * (pos[k] - mp);
-    for (int k = 0; k < nodes; ++k) val[k] -= mv + sxy / sxx * (pos[k] - mp);
-    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{linear_error_motion: {{symbol: {}, positions_mm: [{}], values_um: [{}], interpolation: cubic}}}}",
-                                            s, fmt::join(pos, ", "), fmt::join(val, ", "))));
+    TPCAL_RETURN_IF_ERROR(WithheldStraightness(machine, plan, rng, &w));
   } else if (family == "linear_positioning") {
-    const char* syms[] = {"E_XX", "E_YY", "E_ZZ"};
-    const std::string s = syms[Pick(rng, 3)];
-    const double c1 = RandomSign(rng) * 1e-3, c2 = Pick(rng, 2) ? Uniform(rng, -1, 1) * 2e-6 : 0.0;
-    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{linear_error_motion: {{symbol: {}, coefficients_um_per_mm_pow: [0, {}, {}]}}}}", s, c1, c2)));
+    TPCAL_RETURN_IF_ERROR(WithheldPositioning(machine, rng, &w));
   } else if (family == "rotary_error_motion") {
-    const char* syms[] = {"E_XC", "E_YC", "E_ZC", "E_AC", "E_BC"};
-    const int si = Pick(rng, 5);
-    const std::string unit = si >= 3 ? "urad" : "um";
-    std::string h;
-    const int n_h = 1 + Pick(rng, 2);
-    std::vector<int> orders;
-    while (static_cast<int>(orders.size()) < n_h) {
-      const int o = 2 + Pick(rng, 4);
-      if (std::find(orders.begin(), orders.end(), o) == orders.end()) orders.push_back(o);
-    }
-    for (int o : orders) {
-      const double ph = Uniform(rng, 0, 2 * kPi);
-      h += fmt::format("{}{{order: {}, cos_{}: {}, sin_{}: {}}}", h.empty() ? "" : ", ", o, unit, std::cos(ph), unit, std::sin(ph));
-    }
-    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{rotary_error_motion: {{symbol: {}, harmonics: [{}]}}}}", syms[si], h)));
+    TPCAL_RETURN_IF_ERROR(WithheldRotaryMotion(machine, rng, &w));
   } else if (family == "rotary_positioning") {
-    std::string h;
-    for (int o = 1; o <= 3; ++o) {
-      if (o > 1 && Pick(rng, 2)) continue;
-      const double ph = Uniform(rng, 0, 2 * kPi), a = Uniform(rng, 0.3, 1.0);
-      h += fmt::format("{}{{order: {}, cos_urad: {}, sin_urad: {}}}", h.empty() ? "" : ", ", o, a * std::cos(ph), a * std::sin(ph));
-    }
-    TPCAL_RETURN_IF_ERROR(parse(fmt::format("{{rotary_error_motion: {{symbol: E_CC, harmonics: [{}]}}}}", h)));
+    TPCAL_RETURN_IF_ERROR(WithheldRotaryPositioning(machine, rng, &w));
   } else if (family == "tool_deflection") {
-    testpieces::ToolDeflectionModel m;
-    m.compliance_um_per_n = Eigen::Vector3d(Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04));
-    m.passive_ratio = Uniform(rng, 0.2, 0.6);
-    m.feed_ratio = Uniform(rng, 0.1, 0.5);
-    w.process.deflection = m;
-    w.detail = fmt::format("tool deflection, compliance ({:.3f}, {:.3f}, {:.3f}) um/N, Fp/Fc {:.2f}, Ff/Fc {:.2f}",
-                           m.compliance_um_per_n.x(), m.compliance_um_per_n.y(), m.compliance_um_per_n.z(), m.passive_ratio,
-                           m.feed_ratio);
+    WithheldDeflection(rng, &w);
   } else if (family == "servo_reversal") {
-    testpieces::ServoReversalModel m;
-    m.spike_x_um = Uniform(rng, 0.3, 1.0);
-    m.spike_y_um = Uniform(rng, 0.3, 1.0);
-    m.decay_deg = Uniform(rng, 2.0, 8.0);
-    if (Pick(rng, 2)) m.backlash_x_um = Uniform(rng, 0.0, 0.5), m.backlash_y_um = Uniform(rng, 0.0, 0.5);
-    w.process.servo = m;
-    w.detail = fmt::format("servo glitches X {:.2f}, Y {:.2f}, decay {:.1f} deg, backlash X {:.2f}, Y {:.2f}", m.spike_x_um,
-                           m.spike_y_um, m.decay_deg, m.backlash_x_um, m.backlash_y_um);
+    WithheldServo(rng, &w);
   } else if (family == "probe_radius") {
     w.probe_um = RandomSign(rng);
     w.detail = "probe radius error";
@@ -165,6 +203,318 @@ double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// What every trial shares: the nominal plan, the diagnosis's base design at zero errors on it
+// (what the base absorbs: orthonormal U0 and its leverages h0) with the plan's leave-one-feature-
+// out, and the random base errors' parameters.
+struct ValidationBase {
+  testpieces::ProbingPlan plan;
+  kinematics::ErrorState zero;
+  kinematics::ErrorState truth_base;       // the base errors' terms (values drawn per trial)
+  std::vector<int> truth_coefficients;
+  Eigen::MatrixXd U0;
+  Eigen::VectorXd h0;
+  std::vector<std::string> plan_features;
+  GroupCrossValidation plan_cv;
+  Eigen::Index n() const { return static_cast<Eigen::Index>(plan.points.size()); }
+};
+
+// Orthonormal basis of the base design's columns (each scaled to unit norm; columns below 1e-10
+// of the largest are rounding of a zero signature, diagnosis_least_squares.h ZeroRoundingColumns).
+Eigen::MatrixXd ValidationBaseBasis(const kinematics::LinearDesign& lin, int base_columns) {
+  Eigen::MatrixXd X0(lin.J_dev_params.rows(), base_columns + 6);
+  X0 << lin.J_dev_params, lin.J_dev_alignment;
+  double largest_column = 0.0;
+  for (Eigen::Index j = 0; j < X0.cols(); ++j) largest_column = std::max(largest_column, X0.col(j).norm());
+  for (Eigen::Index j = 0; j < X0.cols(); ++j) {
+    if (X0.col(j).norm() > 1e-10 * largest_column) {
+      X0.col(j).normalize();
+    } else {
+      X0.col(j).setZero();
+    }
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(X0, Eigen::ComputeThinU);
+  int rank = 0;
+  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k)
+    if (svd.singularValues()(k) > 1e-7 * svd.singularValues()(0)) ++rank;
+  return svd.matrixU().leftCols(rank);
+}
+
+// The random base errors of each trial are drawn as the machine's ISO 230-1 location and
+// squareness errors (what a machine has), not in the diagnosis's own base parameters: the check
+// then also proves that the base model absorbs them (drawn as Table 2 parameters, an E_X0C the
+// turning piece's set could not hold and a missing X-Y squareness went unnoticed). Base terms
+// that are not location errors (M2: the straightness of X in Z) are drawn as they are.
+std::vector<std::string> TruthBaseNames(const kinematics::MachineModel& machine,
+                                        const std::vector<std::string>& base_names) {
+  std::vector<std::string> truth_names = kinematics::IsoLocationSet(machine);
+  for (const std::string& name : base_names)
+    if (name.find(".c") != std::string::npos) truth_names.push_back(name);
+  return truth_names;
+}
+
+Result<ValidationBase> MakeValidationBase(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine) {
+  auto plan = testpieces::MakeProbingPlan(piece);
+  if (!plan.ok()) return plan.status();
+  const std::vector<std::string> base_names = testpieces::DefaultParameterSet(piece, machine);
+  kinematics::ErrorState base_state(machine);
+  auto base_active = kinematics::ActivateParameters(machine, &base_state, base_names);
+  if (!base_active.ok()) return base_active.status();
+  std::vector<kinematics::Observation> nominal_obs;
+  for (const auto& pp : plan->points) nominal_obs.push_back({pp.cut, pp.point_part_mm, 0});
+  auto lin = kinematics::LineariseObservations(machine, base_state, *base_active, nominal_obs);
+  if (!lin.ok()) return lin.status();
+  kinematics::ErrorState truth_base(machine);
+  auto truth_active = kinematics::ActivateParameters(machine, &truth_base, TruthBaseNames(machine, base_names));
+  if (!truth_active.ok()) return truth_active.status();
+  Eigen::MatrixXd U0 = ValidationBaseBasis(*lin, base_active->size());
+  // The same cross-validations on the nominal plan, for the withheld effect's own contribution to
+  // each CV figure (see cv_explained in ExplainedShares).
+  std::vector<std::string> plan_features;
+  std::vector<int> feature_of_point;
+  for (const auto& pp : plan->points) {
+    auto it = std::find(plan_features.begin(), plan_features.end(), pp.feature);
+    if (it == plan_features.end()) it = plan_features.insert(plan_features.end(), pp.feature);
+    feature_of_point.push_back(static_cast<int>(it - plan_features.begin()));
+  }
+  const DiagnosisOptions diagnosis_defaults;
+  GroupCrossValidation plan_cv(U0, feature_of_point, static_cast<int>(plan_features.size()),
+                               diagnosis_defaults.holdout_tolerance);
+  Eigen::VectorXd h0 = U0.rowwise().squaredNorm();
+  return ValidationBase{std::move(*plan),      kinematics::ErrorState(machine), std::move(truth_base),
+                        truth_active->coefficients, std::move(U0),          std::move(h0),
+                        std::move(plan_features),   std::move(plan_cv)};
+}
+
+// The withheld effect's unit signature on the nominal plan (alone, exact simulation, no noise),
+// um per point; zero for "none". Errors: the simulator cannot cut the piece with this effect.
+Result<Eigen::VectorXd> UnitSignature(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                      const ValidationBase& vb, const std::string& family, const Withheld& w) {
+  const Eigen::Index n = vb.n();
+  Eigen::VectorXd sig = Eigen::VectorXd::Zero(n);
+  if (family == "none") return sig;
+  if (w.terms || !w.process.empty()) {
+    testpieces::PieceSimOptions so;
+    so.process = w.process;
+    auto sim = testpieces::SimulatePiece(piece, machine, w.terms ? *w.terms : vb.zero, so);
+    if (!sim.ok()) return sim.status();
+    for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
+  }
+  sig.array() += w.probe_um;
+  return sig;
+}
+
+// A trial the simulator could not produce: listed, not scored.
+void SimulationFailed(const Status& status, ValidationTrial* trial, ValidationSummary* out) {
+  trial->verdict = "simulation failed";
+  trial->true_detail += " | " + status.ToString();
+  ++out->simulation_failures;
+  out->trials.push_back(std::move(*trial));
+}
+
+// The visible part above is the linear projection at the nominal state. A signature the base
+// absorbs almost entirely is scaled far up (30-50x on the single cone's drifts, 2-3 % visible),
+// and there the base fit, moving far along its weakly determined directions, absorbs the rest
+// too: the diagnosis sees a gap at noise level. Such a trial is counted unobservable: the scaled
+// effect alone, noise-free, keeps less than half its intended peak after the diagnosis's own base fit.
+void CheckNonlinearAbsorption(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                              const ValidationBase& vb, const Withheld& w, double magnitude, double noise,
+                              ValidationTrial* trial) {
+  testpieces::PieceSimOptions alone;
+  alone.probe_radius_error_um = w.probe_um;
+  alone.process = w.process;
+  auto clean = testpieces::SimulatePiece(piece, machine, w.terms ? *w.terms : vb.zero, alone);
+  if (!clean.ok()) return;
+  DiagnosisOptions base_only;
+  base_only.noise_um = noise;
+  auto d0 = Diagnose(piece, machine, clean->points, base_only);
+  if (d0.ok() && d0->max_abs_um < 0.5 * magnitude * noise) {
+    trial->observable = false;
+    trial->visible_fraction *= d0->max_abs_um / (magnitude * noise);
+  }
+}
+
+// Scales the withheld effect so that its visible (or raw) signature peaks at magnitude x noise
+// and decides whether the trial is observable; returns the scale k (0 for "none").
+double ScaleWithheld(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                     const ValidationBase& vb, const ValidationOptions& options, const std::string& family,
+                     const Eigen::VectorXd& sig, const Eigen::VectorXd& visible, double magnitude, double noise,
+                     Withheld* w, ValidationTrial* trial) {
+  const double raw_peak = sig.cwiseAbs().maxCoeff(), vis_peak = visible.cwiseAbs().maxCoeff();
+  trial->visible_fraction = sig.norm() > 0 ? visible.norm() / sig.norm() : 0.0;
+  // An effect whose unit signature is below 1e-6 um does not act on the measured points
+  // (e.g. Z squareness on horizontal planes): what is left is rounding, not a signature.
+  constexpr double kNoSignature_um = 1e-6;
+  trial->observable = family == "none" ||
+                      (raw_peak > kNoSignature_um && trial->visible_fraction > options.min_visible_fraction);
+  if (family == "none") return 0.0;
+  const double peak = (trial->observable && !options.scale_raw_peak) ? vis_peak : raw_peak;
+  if (!(peak > 0)) trial->observable = false;
+  double k = peak > 0 ? magnitude * noise / peak : 0.0;
+  // No signature (rounding, e.g. E_ZX on the flank-milled cone: Z slides the tool along
+  // its own axis): scaling the rounding to the target peak would make the effect km
+  // long; it is run at its drawn (unit) size, unobservable.
+  if (raw_peak <= kNoSignature_um) k = 1.0;
+  w->Scale(k);
+  if (trial->observable && !options.scale_raw_peak)
+    CheckNonlinearAbsorption(piece, machine, vb, *w, magnitude, noise, trial);
+  return k;
+}
+
+// The random base errors of one trial (+-base_error um / urad each) plus the withheld terms.
+// Errors: a withheld term the state cannot take.
+Result<kinematics::ErrorState> DrawTruth(const kinematics::MachineModel& machine, const ValidationBase& vb,
+                                         const ValidationOptions& options, const Withheld& w, std::mt19937_64& rng) {
+  kinematics::ErrorState truth = vb.truth_base;
+  for (int c : vb.truth_coefficients) {
+    const auto& info = truth.coefficient_info(c);
+    // A polynomial coefficient (unit "um_per_mm_powP") reaches the drawn value at 100 mm.
+    const auto at = info.unit.find("_per_mm_pow");
+    const double lever = at == std::string::npos ? 1.0 : std::pow(100.0, std::stoi(info.unit.substr(at + 11)));
+    truth.set_coefficient(c, Uniform(rng, -options.base_error, options.base_error) / lever / info.display_per_internal);
+  }
+  if (w.terms)
+    for (const auto& term : w.terms->terms()) TPCAL_RETURN_IF_ERROR(truth.AddTerm(machine, term));
+  return truth;
+}
+
+// The piece as measured: `truth` (random base errors + the scaled effect), noise, placement.
+Result<testpieces::SimulatedPiece> SimulateMeasured(const testpieces::TestPiece& piece,
+                                                    const kinematics::MachineModel& machine,
+                                                    const kinematics::ErrorState& truth,
+                                                    const ValidationOptions& options, const Withheld& w, double noise,
+                                                    std::mt19937_64& rng) {
+  testpieces::PieceSimOptions so;
+  so.noise_um = noise;
+  so.seed = rng();
+  so.random_placement = options.random_placement;
+  so.probe_radius_error_um = w.probe_um;
+  so.process = w.process;
+  return testpieces::SimulatePiece(piece, machine, truth, so);
+}
+
+// Share of the withheld effect explained, cross-validated, on comparable terms: the
+// verdict's CV mean square before minus after, over the withheld effect's own
+// contribution to the "before" figure, i.e. the same CV (same method, same held-out
+// features) applied to the noise-free visible signature:
+//   cv_explained = (cv_before^2 - cv_after^2) / cv_effect^2.
+// The held-out residual is linear in the data, so cv_before^2 ~ cv_effect^2 + the noise's
+// share; a candidate that captures the effect leaves its noise share (a little larger
+// with more parameters): about 100 % at best. Dividing by the in-sample effect RMS
+// instead let a feature-CV "before" that carries the effect extrapolated to held-out
+// features (amplified by (I - H_GG)^-1) read as > 100 %. The point (PRESS) version is kept
+// for every verdict as press_explained.
+void ExplainedShares(const ValidationBase& vb, const CandidateResult& best, const Eigen::VectorXd& visible, double k,
+                     ValidationTrial* trial) {
+  const auto n = vb.n();
+  trial->cv_method = best.cv_method;
+  const Eigen::VectorXd press_effect = k * (visible.array() / (1.0 - vb.h0.array()).max(1e-9)).matrix();
+  const double press_effect_ms = press_effect.squaredNorm() / static_cast<double>(n);
+  if (press_effect_ms > 0)
+    trial->press_explained = (best.press_rms_before_um * best.press_rms_before_um -
+                              best.press_rms_after_um * best.press_rms_after_um) / press_effect_ms;
+  double cv_effect_ms = press_effect_ms;
+  if (best.cv_method == "leave-one-feature-out") {
+    const GroupCvResult ecv = vb.plan_cv.Evaluate(Eigen::VectorXd(k * visible));
+    std::vector<bool> mask(vb.plan_features.size(), false);
+    for (std::size_t g = 0; g < vb.plan_features.size(); ++g)
+      mask[g] = ecv.holdable[g] && std::find(best.cv_not_held_out.begin(), best.cv_not_held_out.end(),
+                                             vb.plan_features[g]) == best.cv_not_held_out.end();
+    const double r = ecv.RmsOver(mask);
+    cv_effect_ms = r * r;
+  }
+  if (cv_effect_ms > 0)
+    trial->cv_explained = (best.cv_rms_before_um * best.cv_rms_before_um - best.cv_rms_after_um * best.cv_rms_after_um) /
+                          cv_effect_ms;
+}
+
+// The counts behind the summary's rates.
+struct TrialTally {
+  std::vector<double> explained, press_explained, times;
+  std::map<std::string, int> correct, correct_alias, counted;
+  std::map<std::string, std::map<double, std::pair<int, int>>> by_mag;
+  int none_trials = 0, none_alarms = 0;
+};
+
+void TallyTrial(const ValidationTrial& trial, TrialTally* tally, ValidationSummary* out) {
+  const std::string& family = trial.true_family;
+  tally->times.push_back(trial.seconds);
+  if (family == "none") {
+    ++tally->none_trials;
+    if (trial.verdict != "none") ++tally->none_alarms;
+    ++out->confusion[family][trial.verdict];
+    return;
+  }
+  if (!trial.observable) {
+    ++out->unobservable_trials[family];
+    return;
+  }
+  auto& bm = tally->by_mag[family][trial.magnitude];
+  ++bm.second;
+  const bool hit = trial.verdict == family;
+  if (hit) ++bm.first;
+  if (trial.magnitude < 5.0) return;
+  ++out->confusion[family][trial.verdict];
+  ++tally->counted[family];
+  if (hit) ++tally->correct[family];
+  const auto& ind = trial.indistinguishable_from;
+  if (hit || (trial.verdict != "none" && std::find(ind.begin(), ind.end(), family) != ind.end()))
+    ++tally->correct_alias[family];
+  tally->explained.push_back(hit ? trial.cv_explained : 0.0);
+  tally->press_explained.push_back(hit ? trial.press_explained : 0.0);
+  if (hit) ++out->verdict_cv_method[trial.cv_method];
+}
+
+// One trial: the withheld effect drawn, scaled, simulated with random base errors and noise, and
+// diagnosed; appended to out->trials and tallied (trials not run are listed, not tallied).
+Status RunTrial(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine, const ValidationBase& vb,
+                const ValidationOptions& options, const std::string& family, double magnitude, double noise,
+                std::mt19937_64& rng, TrialTally* tally, ValidationSummary* out) {
+  ValidationTrial trial;
+  trial.true_family = family;
+  trial.magnitude = magnitude;
+  trial.noise_um = noise;
+  auto w = MakeWithheld(family, machine, vb.plan, piece.duration_s(), rng);
+  if (!w.ok()) return w.status();
+  trial.true_detail = w->detail;
+  if (w->not_applicable) {
+    trial.observable = false;
+    trial.verdict = "not applicable";
+    ++out->unobservable_trials[family];
+    out->trials.push_back(std::move(trial));
+    return {};
+  }
+  auto sig = UnitSignature(piece, machine, vb, family, *w);
+  if (!sig.ok()) {
+    SimulationFailed(sig.status(), &trial, out);
+    return {};
+  }
+  const Eigen::VectorXd visible = *sig - vb.U0 * (vb.U0.transpose() * *sig);
+  const double k = ScaleWithheld(piece, machine, vb, options, family, *sig, visible, magnitude, noise, &*w, &trial);
+  trial.effect_rms_um = k * std::sqrt(visible.squaredNorm() / static_cast<double>(vb.n()));
+  auto truth = DrawTruth(machine, vb, options, *w, rng);
+  if (!truth.ok()) return truth.status();
+  auto sim = SimulateMeasured(piece, machine, *truth, options, *w, noise, rng);
+  if (!sim.ok()) {
+    SimulationFailed(sim.status(), &trial, out);
+    return {};
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  auto d = Diagnose(piece, machine, sim->points);
+  trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!d.ok()) {  // counted as a failure of the diagnosis (column "error"), message kept
+    trial.verdict = "error";
+    trial.true_detail += " | " + d.status().ToString();
+  } else {
+    trial.verdict = d->verdict.family;
+    trial.indistinguishable_from = d->verdict.indistinguishable_from;
+  }
+  if (d.ok() && trial.verdict != "none" && trial.effect_rms_um > 0 && !d->candidates.empty())
+    ExplainedShares(vb, d->candidates.front(), visible, k, &trial);
+  TallyTrial(trial, tally, out);
+  out->trials.push_back(std::move(trial));
+  return {};
 }
 
 }  // namespace
@@ -187,252 +537,25 @@ Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, cons
   TPCAL_RETURN_IF_ERROR(options.Validate());
   ValidationSummary out;
   out.families = options.families.empty() ? AllFamilies() : options.families;
-  auto plan = testpieces::MakeProbingPlan(piece);
-  if (!plan.ok()) return plan.status();
-  const auto n = static_cast<Eigen::Index>(plan->points.size());
-
-  // The base design at zero errors on the nominal plan: what the diagnosis's base absorbs.
-  const std::vector<std::string> base_names = testpieces::DefaultParameterSet(piece, machine);
-  kinematics::ErrorState zero(machine);
-  kinematics::ErrorState base_state(machine);
-  auto base_active = kinematics::ActivateParameters(machine, &base_state, base_names);
-  if (!base_active.ok()) return base_active.status();
-  std::vector<kinematics::Observation> nominal_obs;
-  for (const auto& pp : plan->points) nominal_obs.push_back({pp.cut, pp.point_part_mm, 0});
-  auto lin = kinematics::LineariseObservations(machine, base_state, *base_active, nominal_obs);
-  if (!lin.ok()) return lin.status();
-  // The random base errors of each trial are drawn as the machine's ISO 230-1 location and
-  // squareness errors (what a machine has), not in the diagnosis's own base parameters: the check
-  // then also proves that the base model absorbs them (drawn as Table 2 parameters, an E_X0C the
-  // turning piece's set could not hold and a missing X-Y squareness went unnoticed). Base terms
-  // that are not location errors (M2: the straightness of X in Z) are drawn as they are.
-  std::vector<std::string> truth_names = kinematics::IsoLocationSet(machine);
-  for (const std::string& name : base_names)
-    if (name.find(".c") != std::string::npos) truth_names.push_back(name);
-  kinematics::ErrorState truth_base(machine);
-  auto truth_active = kinematics::ActivateParameters(machine, &truth_base, truth_names);
-  if (!truth_active.ok()) return truth_active.status();
-  Eigen::MatrixXd X0(n, base_active->size() + 6);
-  X0 << lin->J_dev_params, lin->J_dev_alignment;
-  // Columns below 1e-10 of the largest are rounding of a zero signature (diagnosis.cc ColumnNorms).
-  double largest_column = 0.0;
-  for (Eigen::Index j = 0; j < X0.cols(); ++j) largest_column = std::max(largest_column, X0.col(j).norm());
-  for (Eigen::Index j = 0; j < X0.cols(); ++j) {
-    if (X0.col(j).norm() > 1e-10 * largest_column) {
-      X0.col(j).normalize();
-    } else {
-      X0.col(j).setZero();
-    }
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(X0, Eigen::ComputeThinU);
-  int rank = 0;
-  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k)
-    if (svd.singularValues()(k) > 1e-7 * svd.singularValues()(0)) ++rank;
-  const Eigen::MatrixXd U0 = svd.matrixU().leftCols(rank);
-  // The same cross-validations on the nominal plan, for the withheld effect's own contribution to
-  // each CV figure (see cv_explained below).
-  std::vector<std::string> plan_features;
-  std::vector<int> feature_of_point;
-  for (const auto& pp : plan->points) {
-    auto it = std::find(plan_features.begin(), plan_features.end(), pp.feature);
-    if (it == plan_features.end()) it = plan_features.insert(plan_features.end(), pp.feature);
-    feature_of_point.push_back(static_cast<int>(it - plan_features.begin()));
-  }
-  const DiagnosisOptions diagnosis_defaults;
-  const GroupCrossValidation plan_cv(U0, feature_of_point, static_cast<int>(plan_features.size()),
-                                     diagnosis_defaults.holdout_tolerance);
-  const Eigen::VectorXd h0 = U0.rowwise().squaredNorm();
-
+  auto vb = MakeValidationBase(piece, machine);
+  if (!vb.ok()) return vb.status();
   std::mt19937_64 rng(options.seed);
-  std::vector<double> explained, press_explained, times;
-  std::map<std::string, int> correct, correct_alias, counted;
-  std::map<std::string, std::map<double, std::pair<int, int>>> by_mag;
-  int none_trials = 0, none_alarms = 0;
-  for (const auto& family : out.families) {
-    for (double magnitude : options.magnitudes) {
-      for (double noise : options.noise_um) {
-        for (int t = 0; t < options.trials; ++t) {
-          ValidationTrial trial;
-          trial.true_family = family;
-          trial.magnitude = magnitude;
-          trial.noise_um = noise;
-          auto w = MakeWithheld(family, machine, *plan, piece.duration_s(), rng);
-          if (!w.ok()) return w.status();
-          trial.true_detail = w->detail;
-          if (w->not_applicable) {
-            trial.observable = false;
-            trial.verdict = "not applicable";
-            ++out.unobservable_trials[family];
-            out.trials.push_back(std::move(trial));
-            continue;
-          }
-          // Unit signature (effect alone, exact simulation, no noise).
-          Eigen::VectorXd sig = Eigen::VectorXd::Zero(n);
-          if (family != "none") {
-            if (w->terms || !w->process.empty()) {
-              testpieces::PieceSimOptions so;
-              so.process = w->process;
-              auto sim = testpieces::SimulatePiece(piece, machine, w->terms ? *w->terms : zero, so);
-              if (!sim.ok()) {  // the simulator cannot cut this piece with this effect: not a diagnosis trial
-                trial.verdict = "simulation failed";
-                trial.true_detail += " | " + sim.status().ToString();
-                ++out.simulation_failures;
-                out.trials.push_back(std::move(trial));
-                continue;
-              }
-              for (Eigen::Index i = 0; i < n; ++i) sig(i) = MmToUm(sim->truth.deviation_mm[static_cast<std::size_t>(i)]);
-            }
-            sig.array() += w->probe_um;
-          }
-          const Eigen::VectorXd visible = sig - U0 * (U0.transpose() * sig);
-          const double raw_peak = sig.cwiseAbs().maxCoeff(), vis_peak = visible.cwiseAbs().maxCoeff();
-          trial.visible_fraction = sig.norm() > 0 ? visible.norm() / sig.norm() : 0.0;
-          // An effect whose unit signature is below 1e-6 um does not act on the measured points
-          // (e.g. Z squareness on horizontal planes): what is left is rounding, not a signature.
-          constexpr double kNoSignature_um = 1e-6;
-          trial.observable = family == "none" ||
-                             (raw_peak > kNoSignature_um && trial.visible_fraction > options.min_visible_fraction);
-          double k = 0.0;
-          if (family != "none") {
-            const double peak = (trial.observable && !options.scale_raw_peak) ? vis_peak : raw_peak;
-            if (!(peak > 0)) trial.observable = false;
-            k = peak > 0 ? magnitude * noise / peak : 0.0;
-            // No signature (rounding, e.g. E_ZX on the flank-milled cone: Z slides the tool along
-            // its own axis): scaling the rounding to the target peak would make the effect km
-            // long; it is run at its drawn (unit) size, unobservable.
-            if (raw_peak <= kNoSignature_um) k = 1.0;
-            w->Scale(k);
-            // The visible part above is the linear projection at the nominal state. A signature
-            // the base absorbs almost entirely is scaled far up (30-50x on the single cone's drifts,
-            // 2-3 % visible), and there the base fit, moving far along its weakly determined
-            // directions, absorbs the rest too: the diagnosis sees a gap at noise level. Such a
-            // trial is counted unobservable: the scaled effect alone, noise-free, keeps less than
-            // half its intended peak after the diagnosis's own base fit.
-            if (trial.observable && !options.scale_raw_peak) {
-              testpieces::PieceSimOptions alone;
-              alone.probe_radius_error_um = w->probe_um;
-              alone.process = w->process;
-              auto clean = testpieces::SimulatePiece(piece, machine, w->terms ? *w->terms : zero, alone);
-              if (clean.ok()) {
-                DiagnosisOptions base_only;
-                base_only.noise_um = noise;
-                auto d0 = Diagnose(piece, machine, clean->points, base_only);
-                if (d0.ok() && d0->max_abs_um < 0.5 * magnitude * noise) {
-                  trial.observable = false;
-                  trial.visible_fraction *= d0->max_abs_um / (magnitude * noise);
-                }
-              }
-            }
-          }
-          trial.effect_rms_um = k * std::sqrt(visible.squaredNorm() / static_cast<double>(n));
-          // The piece as measured: random base errors + the scaled effect, noise, placement.
-          kinematics::ErrorState truth = truth_base;
-          for (int c : truth_active->coefficients) {
-            const auto& info = truth.coefficient_info(c);
-            // A polynomial coefficient (unit "um_per_mm_powP") reaches the drawn value at 100 mm.
-            const auto at = info.unit.find("_per_mm_pow");
-            const double lever = at == std::string::npos ? 1.0 : std::pow(100.0, std::stoi(info.unit.substr(at + 11)));
-            truth.set_coefficient(c, Uniform(rng, -options.base_error, options.base_error) / lever / info.display_per_internal);
-          }
-          if (w->terms)
-            for (const auto& term : w->terms->terms()) TPCAL_RETURN_IF_ERROR(truth.AddTerm(machine, term));
-          testpieces::PieceSimOptions so;
-          so.noise_um = noise;
-          so.seed = rng();
-          so.random_placement = options.random_placement;
-          so.probe_radius_error_um = w->probe_um;
-          so.process = w->process;
-          auto sim = testpieces::SimulatePiece(piece, machine, truth, so);
-          if (!sim.ok()) {
-            trial.verdict = "simulation failed";
-            trial.true_detail += " | " + sim.status().ToString();
-            ++out.simulation_failures;
-            out.trials.push_back(std::move(trial));
-            continue;
-          }
-          const auto t0 = std::chrono::steady_clock::now();
-          auto d = Diagnose(piece, machine, sim->points);
-          trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          if (!d.ok()) {  // counted as a failure of the diagnosis (column "error"), message kept
-            trial.verdict = "error";
-            trial.true_detail += " | " + d.status().ToString();
-          } else {
-            trial.verdict = d->verdict.family;
-            trial.indistinguishable_from = d->verdict.indistinguishable_from;
-          }
-          // Share of the withheld effect explained, cross-validated, on comparable terms: the
-          // verdict's CV mean square before minus after, over the withheld effect's own
-          // contribution to the "before" figure, i.e. the same CV (same method, same held-out
-          // features) applied to the noise-free visible signature:
-          //   cv_explained = (cv_before^2 - cv_after^2) / cv_effect^2.
-          // The held-out residual is linear in the data, so cv_before^2 ~ cv_effect^2 + the noise's
-          // share; a candidate that captures the effect leaves its noise share (a little larger
-          // with more parameters): about 100 % at best. Dividing by the in-sample effect RMS
-          // instead (as before) let a feature-CV "before" that carries the effect extrapolated
-          // to held-out features (amplified by (I - H_GG)^-1) read as > 100 %. The point (PRESS)
-          // version is kept for every verdict as press_explained.
-          if (d.ok() && trial.verdict != "none" && trial.effect_rms_um > 0 && !d->candidates.empty()) {
-            const auto& best = d->candidates.front();
-            trial.cv_method = best.cv_method;
-            const Eigen::VectorXd press_effect =
-                k * (visible.array() / (1.0 - h0.array()).max(1e-9)).matrix();
-            const double press_effect_ms = press_effect.squaredNorm() / static_cast<double>(n);
-            if (press_effect_ms > 0)
-              trial.press_explained = (best.press_rms_before_um * best.press_rms_before_um -
-                                       best.press_rms_after_um * best.press_rms_after_um) / press_effect_ms;
-            double cv_effect_ms = press_effect_ms;
-            if (best.cv_method == "leave-one-feature-out") {
-              const GroupCvResult ecv = plan_cv.Evaluate(Eigen::VectorXd(k * visible));
-              std::vector<bool> mask(plan_features.size(), false);
-              for (std::size_t g = 0; g < plan_features.size(); ++g)
-                mask[g] = ecv.holdable[g] && std::find(best.cv_not_held_out.begin(), best.cv_not_held_out.end(),
-                                                       plan_features[g]) == best.cv_not_held_out.end();
-              const double r = ecv.RmsOver(mask);
-              cv_effect_ms = r * r;
-            }
-            if (cv_effect_ms > 0)
-              trial.cv_explained = (best.cv_rms_before_um * best.cv_rms_before_um - best.cv_rms_after_um * best.cv_rms_after_um) /
-                                   cv_effect_ms;
-          }
-          times.push_back(trial.seconds);
-          if (family == "none") {
-            ++none_trials;
-            if (trial.verdict != "none") ++none_alarms;
-            ++out.confusion[family][trial.verdict];
-          } else if (!trial.observable) {
-            ++out.unobservable_trials[family];
-          } else {
-            auto& bm = by_mag[family][magnitude];
-            ++bm.second;
-            const bool hit = trial.verdict == family;
-            if (hit) ++bm.first;
-            if (magnitude >= 5.0) {
-              ++out.confusion[family][trial.verdict];
-              ++counted[family];
-              if (hit) ++correct[family];
-              const auto& ind = trial.indistinguishable_from;
-              if (hit || (trial.verdict != "none" && std::find(ind.begin(), ind.end(), family) != ind.end()))
-                ++correct_alias[family];
-              explained.push_back(hit ? trial.cv_explained : 0.0);
-              press_explained.push_back(hit ? trial.press_explained : 0.0);
-              if (hit) ++out.verdict_cv_method[trial.cv_method];
-            }
-          }
-          out.trials.push_back(std::move(trial));
-        }
-      }
-    }
+  TrialTally tally;
+  for (const auto& family : out.families)
+    for (double magnitude : options.magnitudes)
+      for (double noise : options.noise_um)
+        for (int t = 0; t < options.trials; ++t)
+          TPCAL_RETURN_IF_ERROR(RunTrial(piece, machine, *vb, options, family, magnitude, noise, rng, &tally, &out));
+  for (const auto& [f, c] : tally.counted) {
+    out.top1_rate[f] = c ? static_cast<double>(tally.correct[f]) / c : 0.0;
+    out.top1_or_alias_rate[f] = c ? static_cast<double>(tally.correct_alias[f]) / c : 0.0;
   }
-  for (const auto& [f, c] : counted) {
-    out.top1_rate[f] = c ? static_cast<double>(correct[f]) / c : 0.0;
-    out.top1_or_alias_rate[f] = c ? static_cast<double>(correct_alias[f]) / c : 0.0;
-  }
-  for (const auto& [f, mags] : by_mag)
+  for (const auto& [f, mags] : tally.by_mag)
     for (const auto& [m, hc] : mags) out.top1_by_magnitude[f][m] = hc.second ? static_cast<double>(hc.first) / hc.second : 0.0;
-  out.false_alarm_rate = none_trials ? static_cast<double>(none_alarms) / none_trials : 0.0;
-  out.median_cv_explained = Median(explained);
-  out.median_press_explained = Median(press_explained);
-  out.median_diagnosis_s = Median(times);
+  out.false_alarm_rate = tally.none_trials ? static_cast<double>(tally.none_alarms) / tally.none_trials : 0.0;
+  out.median_cv_explained = Median(tally.explained);
+  out.median_press_explained = Median(tally.press_explained);
+  out.median_diagnosis_s = Median(tally.times);
   return out;
 }
 
