@@ -256,14 +256,14 @@ Result<GcodeOptions> ParseGcodeOptions(std::string_view yaml_text, const std::st
   } catch (const YAML::DeepRecursion& e) {
     return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line + 1));
+    return Status(StatusCode::kParseError, EchoInput(e.msg, 2 * kMaxEchoBytes), source, static_cast<std::size_t>(e.mark.line + 1));
   } catch (const YAML::Exception& e) {
-    return Status(StatusCode::kParseError, e.what(), source);
+    return Status(StatusCode::kParseError, EchoInput(e.what(), 2 * kMaxEchoBytes), source);
   }
   try {
     return Parse(source, root);
   } catch (const YAML::Exception& e) {
-    return Status(StatusCode::kParseError, e.what(), source);
+    return Status(StatusCode::kParseError, EchoInput(e.what(), 2 * kMaxEchoBytes), source);
   }
 }
 

@@ -375,7 +375,7 @@ Result<InspectionPlan> ParseInspectionPlan(std::string_view text, const std::str
     return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::Exception& e) {
     const std::size_t line = e.mark.line < 0 ? 0 : static_cast<std::size_t>(e.mark.line) + 1;
-    return Status(StatusCode::kParseError, "YAML: " + e.msg, source, line);
+    return Status(StatusCode::kParseError, "YAML: " + EchoInput(e.msg, 2 * kMaxEchoBytes), source, line);
   }
 }
 

@@ -223,12 +223,12 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
   } catch (const YAML::DeepRecursion& e) {
     return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, e.msg, source, static_cast<std::size_t>(e.mark.line) + 1);
+    return Status(StatusCode::kParseError, EchoInput(e.msg, 2 * kMaxEchoBytes), source, static_cast<std::size_t>(e.mark.line) + 1);
   }
   try {
     return ParsePipelineRoot(root, source);
   } catch (const YAML::Exception& e) {  // a list or map where a name or value belongs
-    return Status(StatusCode::kParseError, "expected plain names and values of tpcal.pipeline/1 (YAML: " + e.msg + ")",
+    return Status(StatusCode::kParseError, "expected plain names and values of tpcal.pipeline/1 (YAML: " + EchoInput(e.msg, 2 * kMaxEchoBytes) + ")",
                   source, e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line) + 1);
   }
 }

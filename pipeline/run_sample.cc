@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/errors_yaml.h"
 
@@ -35,7 +36,7 @@ Result<SampleTruth> LoadSampleTruth(const std::string& path) {
   } catch (const YAML::DeepRecursion& e) {
     return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", path, static_cast<std::size_t>(e.mark.line) + 1);
   } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, e.msg, path, static_cast<std::size_t>(e.mark.line) + 1);
+    return Status(StatusCode::kParseError, EchoInput(e.msg, 2 * kMaxEchoBytes), path, static_cast<std::size_t>(e.mark.line) + 1);
   }
   if (!root.IsMap()) return Status(StatusCode::kParseError, "expected a map (tpcal.sample_truth/1)", path, 1);
   SampleTruth t;

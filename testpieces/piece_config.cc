@@ -287,7 +287,7 @@ class Parser {
     } catch (const YAML::DeepRecursion& e) {
       return Status(StatusCode::kParseError, "YAML nested " + std::to_string(e.depth()) + " levels deep; expected a configuration, not nested lists or maps", source_, static_cast<std::size_t>(e.mark.line + 1));
     } catch (const YAML::ParserException& e) {
-      return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source_, static_cast<std::size_t>(e.mark.line + 1));
+      return Status(StatusCode::kParseError, "YAML syntax: " + EchoInput(e.msg, 2 * kMaxEchoBytes), source_, static_cast<std::size_t>(e.mark.line + 1));
     }
     PieceConfig config;
     if (!root || root.IsNull()) return config;  // empty file: the seed 002 piece
@@ -421,7 +421,7 @@ Result<PieceConfig> ParsePieceConfig(std::string_view yaml_text, const std::stri
   try {
     return Parser(source).Parse(yaml_text);
   } catch (const YAML::Exception& e) {
-    return Status(StatusCode::kParseError, std::string("YAML: ") + e.what(), source,
+    return Status(StatusCode::kParseError, "YAML: " + EchoInput(e.what(), 2 * kMaxEchoBytes), source,
                   e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line + 1));
   }
 }

@@ -152,10 +152,10 @@ inline Result<YAML::Node> Parse(const std::string& text, const std::string& sour
                   "configuration, not nested lists or maps", source,
                   e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
   } catch (const YAML::ParserException& e) {
-    return Status(StatusCode::kParseError, "YAML syntax: " + e.msg, source,
+    return Status(StatusCode::kParseError, "YAML syntax: " + EchoInput(e.msg, 2 * kMaxEchoBytes), source,
                   e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line) + 1 : 0);
   } catch (const YAML::Exception& e) {
-    return Status(StatusCode::kParseError, std::string("YAML: ") + e.what(), source);
+    return Status(StatusCode::kParseError, "YAML: " + EchoInput(e.what(), 2 * kMaxEchoBytes), source);
   }
 }
 
