@@ -114,6 +114,34 @@ Result<LinearDesign> LineariseBySlots(const MachineModel& machine, const ErrorSt
   return lin;
 }
 
+namespace {
+
+Eigen::MatrixXd SelectRows(const Eigen::MatrixXd& m, std::span<const int> rows) {
+  if (m.rows() == 0) return m;
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), m.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = m.row(rows[k]);
+  return out;
+}
+
+}  // namespace
+
+LinearDesign RowsOf(const LinearDesign& design, std::span<const int> rows) {
+  LinearDesign out;
+  out.J_dev_params = SelectRows(design.J_dev_params, rows);
+  out.J_dev_alignment = SelectRows(design.J_dev_alignment, rows);
+  out.measured_dev_um = SelectRows(design.measured_dev_um, rows);
+  out.predicted_dev_um = SelectRows(design.predicted_dev_um, rows);
+  return out;
+}
+
+SlotDesign RowsOf(const SlotDesign& design, std::span<const int> rows) {
+  SlotDesign out;
+  out.slots = design.slots;
+  out.dslot_um = SelectRows(design.dslot_um, rows);
+  out.lin = RowsOf(design.lin, rows);
+  return out;
+}
+
 Eigen::Vector3d MachineNormal(const MachineModel& machine, const Observation& o) {
   const ErrorState zero(machine);
   Workspace ws;

@@ -56,6 +56,11 @@ Result<Eigen::MatrixXd> CoefficientColumns(const SlotDesign& design, const Error
 Result<LinearDesign> LineariseBySlots(const MachineModel& machine, const ErrorState& errors,
                                       const std::vector<int>& coefficients, std::span<const Observation> observations);
 
+// The rows `rows` (indices into the design's observations, in the order given) of a design: the
+// design of that subset of the observations (e.g. without the points an outlier screen left out).
+LinearDesign RowsOf(const LinearDesign& design, std::span<const int> rows);
+SlotDesign RowsOf(const SlotDesign& design, std::span<const int> rows);
+
 // Machine-frame outward normal of an observation (nominal kinematics at its cut state).
 Eigen::Vector3d MachineNormal(const MachineModel& machine, const Observation& o);
 

@@ -1,5 +1,7 @@
 #include "pipeline/diagnosis/diagnosis_validate.h"
 
+#include "core/median.h"
+
 #include <fmt/format.h>
 
 #include <Eigen/SVD>
@@ -196,13 +198,6 @@ Result<Withheld> MakeWithheld(const std::string& family, const kinematics::Machi
     return Status(StatusCode::kInvalidArgument, "unknown validation family '" + family + "'");
   }
   return w;
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 // What every trial shares: the nominal plan, the diagnosis's base design at zero errors on it
