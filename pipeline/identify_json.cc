@@ -3,6 +3,7 @@
 #include "kinematics/machine_model.h"
 #include "pipeline/report/identification_blocks.h"
 #include "pipeline/report/json_util.h"
+#include "pipeline/report/screen_json.h"
 #include "pipeline/seed002_items.h"
 
 namespace tpcal::pipeline {
@@ -57,6 +58,9 @@ std::string IdentificationJson(const IdentificationReport& report) {
   j["identifiability"] = IdentifiabilityJson(id);
   j["fit"] = IdentificationFitJson(id);
   j["alignment"] = RigidJson(id.alignment);
+  j["outliers"] = OutliersJson(report.stage.outliers);
+  j["local_defects"] = LocalDefectsJson(report.stage.local_defects);
+  j["neighbour_sigma_um"] = report.stage.neighbour_sigma_um;
 
   if (report.closed_form) {
     const auto& cf = *report.closed_form;

@@ -4,7 +4,9 @@
 #include <utility>
 
 #include "kinematics/error_state.h"
+#include "kinematics/slot_linearisation.h"
 #include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/outlier_screen.h"
 #include "testpieces/default_parameters.h"
 #include "testpieces/point_association.h"
 
@@ -63,6 +65,35 @@ Result<std::shared_ptr<const kinematics::SlotDesign>> NominalSlotDesign(const te
   lin0->predicted_dev_um = shared->lin.predicted_dev_um;
   identify->initial_design = std::move(lin0);
   return std::make_shared<const kinematics::SlotDesign>(std::move(*shared));
+}
+
+// The outlier screen on the final pass's nominal design (base columns and, when fitted, the
+// re-alignment): flagged points are listed in `out`, and unless options.screen_outliers is off
+// left out of the observations, the initial design and the shared slot design.
+struct ScreenListing {
+  std::vector<ScreenedPoint> outliers;
+  std::vector<LocalDefect> local_defects;
+  double neighbour_sigma_um = 0.0;
+};
+
+void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measured, testpieces::MeasuredObservations* obs,
+                     kinematics::IdentifyOptions* pass_options, std::shared_ptr<const kinematics::SlotDesign>* slots,
+                     ScreenListing* out) {
+  const kinematics::LinearDesign& lin = *pass_options->initial_design;
+  const Eigen::Index q = lin.J_dev_params.cols(), a = options.identify.fit_alignment ? 6 : 0;
+  Eigen::MatrixXd X(lin.J_dev_params.rows(), q + a);
+  X.leftCols(q) = lin.J_dev_params;
+  if (a > 0) X.rightCols(a) = lin.J_dev_alignment;
+  const OutlierScreen screen = ScreenOutliers(X, lin.measured_dev_um - lin.predicted_dev_um, obs->observations, options.screen);
+  const bool left_out = options.screen_outliers && screen.CountFlagged() > 0;
+  out->neighbour_sigma_um = screen.sigma_um;
+  ListFlagged(screen, *obs, left_out, &out->outliers, &out->local_defects);
+  AttachScreenLines(measured, &out->outliers, &out->local_defects);
+  if (!left_out) return;
+  const std::vector<int> rows = screen.KeptIndices();
+  *obs = ObservationRows(*obs, rows);
+  pass_options->initial_design = std::make_shared<kinematics::LinearDesign>(kinematics::RowsOf(lin, rows));
+  *slots = std::make_shared<const kinematics::SlotDesign>(kinematics::RowsOf(**slots, rows));
 }
 
 // Reports the parameters under the names asked for (seed 002 keeps "beta_ZX" where the catalog
@@ -142,6 +173,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
   Result<Associated> obs = Status(StatusCode::kInternal, "not associated");
   Result<kinematics::IdentificationResult> id = Status(StatusCode::kInternal, "not identified");
   std::shared_ptr<const kinematics::SlotDesign> slot_design;
+  ScreenListing screened;
   const bool realign = options.identify.fit_alignment;
   for (int pass = 0; pass < (realign ? 2 : 1); ++pass) {
     obs = Associate(piece, measured, datum_from_cmm, options, pass == 0);
@@ -153,6 +185,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
       auto design = NominalSlotDesign(piece, machine, base, *active, parameters, obs->observations, &pass_options);
       if (!design.ok()) return design.status().WithLocation(measured.source);
       slot_design = std::move(*design);
+      if (!obs->scan_cells) ScreenFinalPass(options, measured, &obs->observations, &pass_options, &slot_design, &screened);
     }
     id = kinematics::Identify(machine, base, *active, obs->observations.observations, pass_options);
     if (!id.ok()) return id.status().WithLocation(measured.source);
@@ -164,8 +197,11 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
   }
   id->alignment = total_alignment;
   NameAsAsked(base, *active, parameters, &*id);
-  return IdentifyStageResult{std::move(*inspection), std::move(obs->observations), std::move(parameters),
-                             std::move(*id),         obs->scan_cells,               std::move(slot_design)};
+  return IdentifyStageResult{std::move(*inspection),       std::move(obs->observations),
+                             std::move(parameters),        std::move(*id),
+                             obs->scan_cells,              std::move(slot_design),
+                             std::move(screened.outliers), std::move(screened.local_defects),
+                             screened.neighbour_sigma_um};
 }
 
 }  // namespace tpcal::pipeline

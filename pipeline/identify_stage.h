@@ -20,6 +20,7 @@
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
 #include "kinematics/slot_linearisation.h"
+#include "pipeline/diagnosis/outlier_screen.h"
 #include "pipeline/scan_cells.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
@@ -33,6 +34,10 @@ struct IdentifyStageOptions {
   // Called as each step starts: "gdt", "associate", "scan cells" (pooled files only), "identify"
   // (the re-association in the corrected datum frame is part of it). May be empty.
   std::function<void(const char* step)> on_step;
+  // Outliers and local defects (pipeline/diagnosis/outlier_screen.h) are left out of the final
+  // identification and listed; false keeps them (still listed). Scan-line cells are not screened.
+  bool screen_outliers = true;
+  OutlierScreenOptions screen;
 };
 
 struct IdentifyStageResult {
@@ -45,6 +50,11 @@ struct IdentifyStageResult {
   // diagnosis candidate: the final identification's first design, and the diagnosis's
   // (DiagnosisOptions::nominal_slot_design with base_parameters = parameters).
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
+  // The outlier screen on the nominal design of the final pass: flagged points (file lines set),
+  // left out of `observations` and the identification unless screen_outliers is off.
+  std::vector<ScreenedPoint> outliers;
+  std::vector<LocalDefect> local_defects;
+  double neighbour_sigma_um = 0.0;
 };
 
 // The identification options of `tpcal identify --uncertainty CHOICE`: jackknife (delete one point,

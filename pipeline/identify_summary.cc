@@ -1,5 +1,7 @@
 #include "pipeline/identify_summary.h"
 
+#include "pipeline/report/screen_json.h"
+
 #include <fmt/format.h>
 
 namespace tpcal::pipeline {
@@ -47,6 +49,7 @@ std::string IdentificationSummary(const IdentificationReport& r) {
   for (const auto& s : r.straightness)
     out += fmt::format("straightness {} from {}: {} um (LS P-V), {} um (minimum zone)\n", s.name, s.feature,
                        FixedDigits(s.pv_ls_um), FixedDigits(s.mz_um));
+  out += ScreenText(r.stage.outliers, r.stage.local_defects, r.stage.neighbour_sigma_um);
   return out;
 }
 

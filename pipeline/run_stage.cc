@@ -105,10 +105,13 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     DiagnosisOptions d_options;
     d_options.base_parameters = parameters;
     d_options.nominal_slot_design = stage->nominal_slot_design;
+    d_options.prior_outliers = stage->outliers;
+    d_options.prior_local_defects = stage->local_defects;
     auto d = DiagnoseObservations(setup->piece, setup->machine, stage->observations, d_options);
-    if (d.ok())
+    if (d.ok()) {
       diagnosis = std::move(*d);
-    else
+      AttachScreenLines(file->points, &diagnosis->outliers, &diagnosis->local_defects);
+    } else
       diagnosis_status = d.status();
   }
 

@@ -64,6 +64,7 @@
 // reproduces >= alias_capture of the verdict's fitted signature (the piece cannot).
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,6 +74,7 @@
 #include "core/status.h"
 #include "kinematics/error_state.h"
 #include "kinematics/machine_model.h"
+#include "pipeline/diagnosis/outlier_screen.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
@@ -119,6 +121,14 @@ struct DiagnosisOptions {
   // says which slots it needs). Used for the first linearisation when it holds every slot needed
   // and the base is not a reference; otherwise the diagnosis makes its own.
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
+  // Outliers and local defects (outlier_screen.h) are left out before the base fit and listed;
+  // false keeps every point (they are still found and listed, marked kept).
+  bool screen_outliers = true;
+  OutlierScreenOptions screen;
+  // Points an earlier screen left out of the observations (the identification stage's, in tpcal
+  // run): listed first and weighed by the verdict as the diagnosis's own.
+  std::vector<ScreenedPoint> prior_outliers;
+  std::vector<LocalDefect> prior_local_defects;
   Status Validate() const;
 };
 
@@ -152,6 +162,9 @@ struct BaseShift {     // change of an identified base coefficient when the effe
   std::string name;
   std::string unit;
   double without_um = 0.0, with_um = 0.0;  // display units (um or urad)
+  // Standard uncertainties (k = 1, the joint fit's residual sigma): of the base fit alone and of
+  // the joint fit of base and effect (larger: the effect takes some of the data's information).
+  double u_without = 0.0, u_with = 0.0;
 };
 
 struct CandidateResult {
@@ -193,12 +206,21 @@ struct WeaklyObservableFamily {
   double visible_share = 0.0;  // typical share, largest over its candidates, 0..1 (norm ratio)
 };
 
+// A family of the effect catalogue (its candidate's parameters describe the verdict): not none,
+// local_defect or unexplained.
+bool IsCatalogueFamily(const std::string& family);
+
 struct Verdict {
   std::string family = "none";
   std::string name = "nothing beyond measurement noise";
   double shrink_pct = 0.0, cv_shrink_pct = 0.0;
   std::vector<std::string> indistinguishable_from;
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict
+  // Every family the verdict names, leading first: the verdict's, `also`, and local_defect when
+  // the screen found a patch beside a catalogue effect. Empty for none.
+  std::vector<std::string> families;
+  // unexplained: the candidates that explain most of the gap without being significant (best first).
+  std::vector<std::string> partial;
 };
 
 // The verdict and the runner-up (the best significant candidate of another family) fitted
@@ -248,6 +270,13 @@ struct DiagnosisResult {
   Verdict verdict;
   std::optional<PairFit> pair;                   // verdict + runner-up jointly, when they are close
   std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"
+  // The outlier screen: flagged points (left out unless screen_outliers is off), the patches, and
+  // the noise sigma from neighbour differences on the same feature with the test of the gap
+  // against it (p-value of "the base gap is noise of that sigma"; 1 when not screened).
+  std::vector<ScreenedPoint> outliers;
+  std::vector<LocalDefect> local_defects;
+  double neighbour_sigma_um = 0.0;
+  double excess_p_value = 1.0;
   std::vector<double> gap_um;                    // per observation
   std::vector<std::string> point_feature;        // per observation
 };

@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "core/units.h"
+#include "pipeline/diagnosis/diagnosis_least_squares.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
@@ -125,6 +128,36 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
   }
 }
 
+// Order k pooled over every circular profile that has it: S_k = sum m_f A_fk^2 / 2 (chi-square
+// with 2 F_k degrees of freedom times sigma^2 under noise) against the profiles' residual sum of
+// squares without it, an F test that needs no noise estimate from elsewhere (an error motion of
+// more lobes than the neighbour spacing resolves inflates every other noise figure). Stands out
+// below 1 % / (number of orders), Bonferroni.
+void PooledHarmonics(const std::vector<HarmonicGap>& all, const PointGroups& by_feature, const Eigen::VectorXd& r0,
+                     DiagnosisResult* out) {
+  double ssr = 0.0, n = 0.0;
+  std::map<std::string, double> m;
+  for (const auto& [name, idx] : by_feature)
+    if (idx.size() >= 8) {
+      m[name] = static_cast<double>(idx.size());
+      n += m[name];
+      for (auto i : idx) ssr += r0(i) * r0(i);
+    }
+  std::map<int, std::pair<double, int>> energy;  // order -> S_k, F_k
+  for (const auto& h : all) {
+    auto& e = energy[h.order];
+    e.first += m[h.feature] * h.amplitude_um * h.amplitude_um / 2.0;
+    e.second += 1;
+  }
+  for (const auto& [k, e] : energy) {
+    const double d1 = 2.0 * e.second, d2 = n - 2.0 * e.second;
+    if (e.second < 2 || d2 <= 30 || ssr - e.first <= 0) continue;
+    const double p = FUpperTail((e.first / d1) / ((ssr - e.first) / d2), d1, d2);
+    if (p < 0.01 / static_cast<double>(energy.size()))
+      out->standing_out.push_back(fmt::format("harmonic {} on {} circular profiles (pooled, p = {:.2g})", k, e.second, p));
+  }
+}
+
 // C harmonics of every circular profile (a feature of at least 8 points), and which stand out.
 void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinematics::Observation>& obs,
                        const Eigen::VectorXd& r0, double s, int max_harmonic, DiagnosisResult* out) {
@@ -137,6 +170,7 @@ void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinemati
     h.stands_out = h.z > t;
     if (h.stands_out) out->standing_out.push_back("feature " + h.feature + " harmonic " + std::to_string(h.order));
   }
+  PooledHarmonics(all, by_feature, r0, out);
   out->harmonics = std::move(all);
 }
 

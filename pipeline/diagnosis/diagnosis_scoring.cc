@@ -85,18 +85,29 @@ Eigen::VectorXd EffectParameters(const CandidateColumns& cc, const Projected& b,
   return coef;
 }
 
-// Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef).
-void BaseShifts(const Columns& C, const Eigen::VectorXd& coef, const BaseFit& fit,
+// Bias the effect was putting into the base coefficients: the base absorbs X0+ (C coef). With
+// the effect modelled a base coefficient is X0+ (y - C g): its variance is the base fit's plus
+// A Cov(g) A^T, A = X0+ C, Cov(g) = s2 B B^T (X0+ y and g are uncorrelated: g sees only the
+// residual's complement), both at the joint fit's residual variance s2.
+void BaseShifts(const Columns& C, const Eigen::VectorXd& coef, const Projected& b, double s2, const BaseFit& fit,
                 const std::vector<EffectParameter>& base_parameters, CandidateResult* cr) {
   Eigen::VectorXd effect = Eigen::VectorXd::Zero(fit.y.size());
   for (std::size_t j = 0; j < C.size(); ++j) effect += coef(static_cast<Eigen::Index>(j)) * C[j];
-  Eigen::VectorXd dcoef, du;
+  Eigen::VectorXd dcoef, u0, unused;
   std::vector<bool> dident;
-  Solve(fit.basis, effect, 0.0, &dcoef, &du, &dident);
+  Solve(fit.basis, effect, s2, &dcoef, &u0, &dident);
+  Eigen::MatrixXd A(dcoef.size(), static_cast<Eigen::Index>(C.size()));
+  for (std::size_t j = 0; j < C.size(); ++j) {
+    Eigen::VectorXd aj;
+    Solve(fit.basis, C[j], 0.0, &aj, &unused, &dident);
+    A.col(static_cast<Eigen::Index>(j)) = aj;
+  }
+  const Eigen::MatrixXd AB = A * b.B;
   for (int k = 0; k < fit.q_fit; ++k) {
     const auto& bp = base_parameters[static_cast<std::size_t>(k)];
     if (!bp.identifiable || std::abs(dcoef(k)) < 1e-9) continue;  // no number for what the data cannot separate
-    cr->base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k)});
+    const double u_with = std::sqrt(u0(k) * u0(k) + s2 * AB.row(k).squaredNorm());
+    cr->base_shift.push_back({bp.name, bp.unit, bp.value, bp.value - dcoef(k), u0(k), u_with});
   }
 }
 
@@ -133,7 +144,7 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
     cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / gap.ssr) + b.rank * std::log(static_cast<double>(n));
   }
   const Eigen::VectorXd coef = EffectParameters(cc, b, r0, ssr1, dof1, &cr);
-  if (fit.q_fit > 0 && b.rank > 0) BaseShifts(C, coef, fit, base_parameters, &cr);
+  if (fit.q_fit > 0 && b.rank > 0) BaseShifts(C, coef, b, dof1 > 0 ? ssr1 / dof1 : 0.0, fit, base_parameters, &cr);
   *b_out = std::move(b);
   return cr;
 }

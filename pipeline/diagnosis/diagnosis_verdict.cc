@@ -1,5 +1,8 @@
 #include "pipeline/diagnosis/diagnosis_verdict.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -199,6 +202,68 @@ void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, Diagnosis
     if (c.observable) family_share[c.family] = std::max(family_share[c.family], c.typical_visible_share);
   for (const auto& [family, share] : family_share)
     if (share < in.options.weak_visibility) out->weakly_observable.push_back({family, share});
+}
+
+namespace {
+
+// A gap at least 15 % above the noise RMS (an unmodelled signature of RMS 0.57 sigma) is worth
+// naming even when the test is significant for less.
+constexpr double kExcessRatio = 1.15;
+
+// p-value of "the base gap is noise of the neighbour sigma": F = (SSR / dof) / sigma^2 against
+// the MAD's effective degrees of freedom (0.37 n).
+double ExcessPValue(const VerdictInputs& in, double sigma_um) {
+  const auto n = static_cast<double>(in.gap.r.size());
+  const double dof = n - in.fit.basis.rank;
+  if (sigma_um <= 0 || dof <= 0) return 1.0;
+  const double f = (in.gap.ssr / dof) / (sigma_um * sigma_um);
+  return FUpperTail(f, dof, 0.37 * n);
+}
+
+std::string DefectName(const LocalDefect& d) {
+  return fmt::format("local defect on {} ({} points, peak {:+.2f} um over {:.1f} mm)", d.feature, d.n_points, d.peak_um,
+                     2.0 * d.extent_mm);
+}
+
+// The observable candidates that explain some of the gap (cross-validated shrink > 0), best first, at most 3.
+std::vector<std::string> PartialCandidates(const DiagnosisResult& out) {
+  std::vector<const CandidateResult*> c;
+  for (const auto& cand : out.candidates)
+    if (cand.observable && cand.cv_shrink_pct > 0) c.push_back(&cand);
+  std::stable_sort(c.begin(), c.end(), [](auto* a, auto* b) { return a->cv_shrink_pct > b->cv_shrink_pct; });
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < c.size() && k < 3; ++k)
+    names.push_back(fmt::format("{} ({}: cv shrink {:.0f} %)", c[k]->family, c[k]->name, c[k]->cv_shrink_pct));
+  return names;
+}
+
+}  // namespace
+
+void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
+  out->excess_p_value = ExcessPValue(in, out->neighbour_sigma_um);
+  Verdict& v = out->verdict;
+  if (v.family != "none") {
+    v.families = {v.family};
+    if (v.also) v.families.push_back(*v.also);
+    if (!out->local_defects.empty()) v.families.push_back("local_defect");
+    return;
+  }
+  if (!out->local_defects.empty()) {
+    v.family = "local_defect";
+    v.name = DefectName(out->local_defects.front());
+    for (std::size_t k = 1; k < out->local_defects.size(); ++k) v.name += "; " + DefectName(out->local_defects[k]);
+    v.families = {v.family};
+    return;
+  }
+  const bool excess = out->excess_p_value < in.options.alpha && out->rms_um > kExcessRatio * out->neighbour_sigma_um;
+  if (out->standing_out.empty() && !excess) return;
+  v.family = "unexplained";
+  v.name = out->standing_out.empty()
+               ? fmt::format("a gap of {:.2f} um RMS over noise of {:.2f} um that no candidate explains", out->rms_um,
+                             out->neighbour_sigma_um)
+               : "a gap no candidate explains, standing out at " + fmt::format("{}", fmt::join(out->standing_out, ", "));
+  v.families = {v.family};
+  v.partial = PartialCandidates(*out);
 }
 
 }  // namespace tpcal::pipeline::diagnosis_internal

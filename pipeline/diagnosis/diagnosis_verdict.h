@@ -55,4 +55,11 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
 // The candidates in ranking order, the unobservable and the weakly observable families, into `out`.
 void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out);
 
+// After the gap summary: the test of the base gap against the neighbour-difference noise
+// (excess_p_value), the verdict's list of families, and where no catalogue candidate is
+// significant, local_defect (the screen found a patch) or unexplained (the gap stands out beyond
+// noise: a group or harmonic stands out, or the excess test is below alpha with the gap RMS at
+// least kExcessRatio x the noise), with the partial candidates; none only when nothing stands out.
+void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out);
+
 }  // namespace tpcal::pipeline::diagnosis_internal

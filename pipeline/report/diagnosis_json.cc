@@ -1,11 +1,13 @@
 #include "pipeline/report/diagnosis_json.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
 #include "core/xml_escape.h"
 #include "pipeline/report/json_util.h"
+#include "pipeline/report/screen_json.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -101,7 +103,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
     json shift = json::array();
     for (const auto& s : c.base_shift)
       shift.push_back({{"name", s.name}, {"unit", s.unit}, {"without", s.without_um}, {"with", s.with_um},
-                       {"change", s.with_um - s.without_um}});
+                       {"change", s.with_um - s.without_um}, {"u_without", s.u_without}, {"u_with", s.u_with}});
     e["base_shift"] = shift;
     cands.push_back(e);
   }
@@ -113,7 +115,13 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   v["indistinguishable_from"] = r.verdict.indistinguishable_from;
   v["cv_shrink_pct"] = r.verdict.cv_shrink_pct;
   if (r.verdict.also) v["also"] = *r.verdict.also;
+  v["families"] = r.verdict.families;
+  if (!r.verdict.partial.empty()) v["partial"] = r.verdict.partial;
   j["verdict"] = v;
+  j["outliers"] = OutliersJson(r.outliers);
+  j["local_defects"] = LocalDefectsJson(r.local_defects);
+  j["neighbour_sigma_um"] = r.neighbour_sigma_um;
+  j["excess_p_value"] = r.excess_p_value;
   if (r.pair) {
     const PairFit& p = *r.pair;
     json pj;
@@ -195,7 +203,9 @@ std::string DiagnosisText(const DiagnosisResult& r) {
                      "p = {:.3g} for the second given the first\n",
                      r.pair->names.back(), r.pair->why, r.pair->shrink_pct, r.pair->cv_shrink_pct, r.pair->cv_method,
                      r.pair->p_value_beyond_verdict);
-  if (r.verdict.family != "none" && !r.candidates.empty()) {
+  for (const auto& pt : r.verdict.partial) o += "  explains part of it: " + pt + "\n";
+  o += ScreenText(r.outliers, r.local_defects, r.neighbour_sigma_um);
+  if (IsCatalogueFamily(r.verdict.family) && !r.candidates.empty()) {
     const auto& best = r.candidates.front();
     o += "  parameters:\n";
     for (const auto& p : best.parameters)
@@ -205,9 +215,10 @@ std::string DiagnosisText(const DiagnosisResult& r) {
       o += fmt::format("  cross-validated by {} ({}); not held out with this effect: {}\n", best.cv_method,
                        best.cv_method_reason, fmt::join(best.cv_not_held_out, " "));
     if (!best.base_shift.empty()) {
-      o += "  change of the identified machine errors when it is modelled:\n";
+      o += "  change of the identified machine errors when it is modelled (value +- u without -> with):\n";
       for (const auto& s : best.base_shift)
-        o += fmt::format("    {:<16} {:>9.3f} -> {:>9.3f} {}\n", s.name, s.without_um, s.with_um, s.unit);
+        o += fmt::format("    {:<16} {:>9.3f} +- {:<7.3f} -> {:>9.3f} +- {:<7.3f} {}\n", s.name, s.without_um,
+                         s.u_without, s.with_um, s.u_with, s.unit);
     }
   }
   for (const auto& u : r.unobservable) o += "unobservable: " + u.family + ": " + u.reason + "\n";

@@ -1,0 +1,288 @@
+#include "pipeline/diagnosis/outlier_screen.h"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <fmt/format.h>
+#include <map>
+
+#include "core/median.h"
+#include "pipeline/diagnosis/feature_neighbours.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+constexpr int kMaxRounds = 40;
+
+// Variance of the median of k standard normal draws (k = 1..4 exact to 3 digits; pi / 2k beyond).
+double MedianVariance(std::size_t k) {
+  static const double v[] = {0.0, 1.0, 0.5, 0.449, 0.298};
+  return k <= 4 ? v[k] : 3.14159265358979 / (2.0 * static_cast<double>(k));
+}
+
+// Residuals at every row of the least-squares fit of y on X over the rows with keep[i].
+Eigen::VectorXd TrimmedResiduals(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<bool>& keep) {
+  Eigen::VectorXd norms = X.colwise().norm().transpose();
+  Eigen::MatrixXd Xs = X;
+  for (Eigen::Index c = 0; c < X.cols(); ++c) Xs.col(c) = norms(c) > 0 ? Eigen::VectorXd(X.col(c) / norms(c)) : Eigen::VectorXd::Zero(X.rows());
+  std::vector<Eigen::Index> rows;
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) rows.push_back(static_cast<Eigen::Index>(i));
+  if (X.cols() == 0 || static_cast<Eigen::Index>(rows.size()) <= X.cols()) return y;
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(rows.size()), X.cols());
+  Eigen::VectorXd b(A.rows());
+  for (Eigen::Index k = 0; k < A.rows(); ++k) {
+    A.row(k) = Xs.row(rows[static_cast<std::size_t>(k)]);
+    b(k) = y(rows[static_cast<std::size_t>(k)]);
+  }
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+  cod.setThreshold(1e-9);
+  return y - Xs * cod.solve(b);
+}
+
+// d_i = r_i - median of its neighbours' r; sigma from the MAD of d_i / sqrt(1 + v_k).
+void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& nb, OutlierScreen* s) {
+  s->neighbour_dev_um = Eigen::VectorXd::Zero(r.size());
+  std::vector<double> scaled;
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const auto& list = nb[static_cast<std::size_t>(i)];
+    if (list.empty()) continue;
+    std::vector<double> v;
+    for (int j : list) v.push_back(r(j));
+    s->neighbour_dev_um(i) = r(i) - Median(v);
+    scaled.push_back(std::abs(s->neighbour_dev_um(i)) / std::sqrt(1.0 + MedianVariance(list.size())));
+  }
+  s->sigma_dof = 0.37 * static_cast<double>(scaled.size());
+  s->sigma_um = scaled.size() >= 10 ? 1.4826 * Median(scaled) : 0.0;
+}
+
+// Connected components (same sign as their seed, through the symmetric neighbour graph) of the
+// points with seed(i), grown through the points with join(i).
+template <typename Seed, typename Join>
+std::vector<std::vector<int>> Components(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& adj, Seed seed,
+                                         Join join) {
+  std::vector<std::vector<int>> out;
+  std::vector<bool> seen(static_cast<std::size_t>(r.size()), false);
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    if (seen[static_cast<std::size_t>(i)] || !seed(static_cast<int>(i))) continue;
+    std::vector<int> comp;
+    std::deque<int> todo{static_cast<int>(i)};
+    seen[static_cast<std::size_t>(i)] = true;
+    while (!todo.empty()) {
+      const int a = todo.front();
+      todo.pop_front();
+      comp.push_back(a);
+      for (int b : adj[static_cast<std::size_t>(a)])
+        if (!seen[static_cast<std::size_t>(b)] && r(b) * r(i) > 0 && join(b)) {
+          seen[static_cast<std::size_t>(b)] = true;
+          todo.push_back(b);
+        }
+    }
+    std::sort(comp.begin(), comp.end());
+    out.push_back(std::move(comp));
+  }
+  return out;
+}
+
+DefectPatch MakePatch(std::span<const kinematics::Observation> obs, const Eigen::VectorXd& r, std::vector<int> members) {
+  DefectPatch p;
+  p.group = obs[static_cast<std::size_t>(members.front())].group;
+  for (int m : members) {
+    p.centre_mm += obs[static_cast<std::size_t>(m)].cut.nominal_point_mm;
+    p.mean_um += r(m);
+    if (std::abs(r(m)) > std::abs(p.peak_um)) p.peak_um = r(m);
+  }
+  p.centre_mm /= static_cast<double>(members.size());
+  p.mean_um /= static_cast<double>(members.size());
+  for (int m : members)
+    p.extent_mm = std::max(p.extent_mm, (obs[static_cast<std::size_t>(m)].cut.nominal_point_mm - p.centre_mm).norm());
+  p.members = std::move(members);
+  return p;
+}
+
+// What the screen sees of the points: neighbours, graph, feature sizes, options.
+struct ScreenContext {
+  std::span<const kinematics::Observation> obs;
+  std::vector<std::vector<int>> nb, adj;
+  std::map<int, int> group_size;
+  const OutlierScreenOptions& o;
+};
+
+// Is a component a fault (an isolated outlier or a small patch) rather than systematic?
+bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
+  const int n_g = c.group_size.at(c.obs[static_cast<std::size_t>(comp.front())].group);
+  if (n_g < 3) return false;
+  const double limit = c.o.seed_z * s.sigma_um;
+  if (comp.size() == 1) {
+    const int i = comp.front();
+    const double v = MedianVariance(c.nb[static_cast<std::size_t>(i)].size());
+    return std::abs(s.residual_um(i)) > limit && std::abs(s.neighbour_dev_um(i)) > limit * std::sqrt(1.0 + v);
+  }
+  double sum = 0.0;
+  for (int i : comp) sum += s.residual_um(i);
+  const double m = static_cast<double>(comp.size());
+  return static_cast<int>(comp.size()) <= c.o.max_patch_points && m <= c.o.max_patch_share * n_g &&
+         std::abs(sum) / std::sqrt(m) > limit;
+}
+
+// The faults among the points not yet flagged, from this round's residuals.
+std::vector<std::vector<int>> NewFaults(const ScreenContext& c, const OutlierScreen& s, const std::vector<bool>& flagged) {
+  const Eigen::VectorXd& r = s.residual_um;
+  auto free_beyond = [&](double z) {
+    return [&, z](int i) { return !flagged[static_cast<std::size_t>(i)] && std::abs(r(i)) > z * s.sigma_um; };
+  };
+  std::vector<std::vector<int>> out;
+  for (auto& comp : Components(r, c.adj, free_beyond(c.o.grow_z), free_beyond(c.o.grow_z)))
+    if (IsFault(c, s, comp)) out.push_back(std::move(comp));
+  return out;
+}
+
+double Peak(const Eigen::VectorXd& r, const std::vector<int>& comp) {
+  double p = 0.0;
+  for (int i : comp) p = std::max(p, std::abs(r(i)));
+  return p;
+}
+
+// The flagged points grouped (same-sign neighbours) into outliers and patches; a feature with more
+// groups than max(2, max_components_share x its points) has all its points kept. Returns whether
+// any point was kept that way.
+bool FinalFlags(const ScreenContext& c, const std::vector<bool>& flagged, OutlierScreen* s) {
+  const Eigen::VectorXd& r = s->residual_um;
+  auto is_flagged = [&](int i) { return static_cast<bool>(flagged[static_cast<std::size_t>(i)]); };
+  std::map<int, std::vector<std::vector<int>>> by_group;
+  for (auto& comp : Components(r, c.adj, is_flagged, is_flagged))
+    by_group[c.obs[static_cast<std::size_t>(comp.front())].group].push_back(std::move(comp));
+  s->flag.assign(c.obs.size(), ScreenFlag::kKept);
+  s->patches.clear();
+  bool released = false;
+  for (auto& [g, comps] : by_group) {
+    if (static_cast<double>(comps.size()) > std::max(2.0, c.o.max_components_share * c.group_size.at(g))) {
+      released = true;
+      continue;
+    }
+    for (auto& comp : comps) {
+      const ScreenFlag f = comp.size() == 1 ? ScreenFlag::kOutlier : ScreenFlag::kLocalDefect;
+      for (int i : comp) s->flag[static_cast<std::size_t>(i)] = f;
+      if (comp.size() > 1) s->patches.push_back(MakePatch(c.obs, r, std::move(comp)));
+    }
+  }
+  std::sort(s->patches.begin(), s->patches.end(),
+            [](const DefectPatch& a, const DefectPatch& b) { return a.members.front() < b.members.front(); });
+  return released;
+}
+
+}  // namespace
+
+Status OutlierScreenOptions::Validate() const {
+  if (!(seed_z > 0 && grow_z > 0 && grow_z <= seed_z))
+    return {StatusCode::kInvalidArgument, "outlier screen: need 0 < grow_z <= seed_z"};
+  if (neighbours < 1 || max_patch_points < 2) return {StatusCode::kInvalidArgument, "outlier screen: need neighbours >= 1 and max_patch_points >= 2"};
+  if (!(max_patch_share > 0 && max_patch_share <= 1 && max_components_share >= 0))
+    return {StatusCode::kInvalidArgument, "outlier screen: need 0 < max_patch_share <= 1 and max_components_share >= 0"};
+  return {};
+}
+
+int OutlierScreen::CountFlagged() const {
+  return static_cast<int>(std::count_if(flag.begin(), flag.end(), [](ScreenFlag f) { return f != ScreenFlag::kKept; }));
+}
+
+std::vector<int> OutlierScreen::KeptIndices() const {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < flag.size(); ++i)
+    if (flag[i] == ScreenFlag::kKept) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                             std::span<const kinematics::Observation> observations, const OutlierScreenOptions& options) {
+  ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, options};
+  c.adj = c.nb;  // symmetric neighbour graph
+  for (std::size_t i = 0; i < c.nb.size(); ++i)
+    for (int j : c.nb[i]) {
+      auto& back = c.adj[static_cast<std::size_t>(j)];
+      if (std::find(back.begin(), back.end(), static_cast<int>(i)) == back.end()) back.push_back(static_cast<int>(i));
+    }
+  for (const auto& o : observations) ++c.group_size[o.group];
+  // Worst first: each round flags the faults within a factor 2 of the largest, then refits, so
+  // that the pull of a gross outlier on the fit is gone before its neighbours are judged.
+  OutlierScreen s;
+  std::vector<bool> flagged(observations.size(), false);
+  for (s.rounds = 1;; ++s.rounds) {
+    std::vector<bool> keep(flagged.size());
+    for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
+    s.residual_um = TrimmedResiduals(X, y, keep);
+    NeighbourDeviations(s.residual_um, c.nb, &s);
+    if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
+    const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
+    if (faults.empty()) break;
+    double worst = 0.0;
+    for (const auto& f : faults) worst = std::max(worst, Peak(s.residual_um, f));
+    for (const auto& f : faults)
+      if (Peak(s.residual_um, f) >= 0.5 * worst)
+        for (int i : f) flagged[static_cast<std::size_t>(i)] = true;
+  }
+  s.flag.assign(observations.size(), ScreenFlag::kKept);
+  if (s.sigma_um > 0 && FinalFlags(c, flagged, &s)) {
+    for (std::size_t i = 0; i < flagged.size(); ++i) flagged[i] = s.flag[i] != ScreenFlag::kKept;
+    std::vector<bool> keep(flagged.size());
+    for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
+    s.residual_um = TrimmedResiduals(X, y, keep);
+    NeighbourDeviations(s.residual_um, c.nb, &s);
+  }
+  return s;
+}
+
+testpieces::MeasuredObservations ObservationRows(const testpieces::MeasuredObservations& all, std::span<const int> rows) {
+  testpieces::MeasuredObservations out;
+  out.feature_names = all.feature_names;
+  for (int i : rows) {
+    out.observations.push_back(all.observations[static_cast<std::size_t>(i)]);
+    if (!all.point_index.empty()) out.point_index.push_back(all.point_index[static_cast<std::size_t>(i)]);
+  }
+  return out;
+}
+
+void ListFlagged(const OutlierScreen& s, const testpieces::MeasuredObservations& mo, bool left_out,
+                 std::vector<ScreenedPoint>* points, std::vector<LocalDefect>* defects) {
+  auto point_of = [&](int i) {
+    return mo.point_index.empty() ? static_cast<std::size_t>(i) : mo.point_index[static_cast<std::size_t>(i)];
+  };
+  auto feature_of = [&](int i) {
+    return mo.feature_names[static_cast<std::size_t>(mo.observations[static_cast<std::size_t>(i)].group)];
+  };
+  for (std::size_t i = 0; i < s.flag.size(); ++i) {
+    if (s.flag[i] == ScreenFlag::kKept) continue;
+    const int k = static_cast<int>(i);
+    points->push_back({point_of(k), 0, feature_of(k), s.flag[i] == ScreenFlag::kOutlier ? "outlier" : "local_defect",
+                       s.residual_um(k), ScreenReason(s, k, feature_of(k)), left_out});
+  }
+  for (const auto& patch : s.patches) {
+    LocalDefect d{feature_of(patch.members.front()), static_cast<int>(patch.members.size()), patch.peak_um,
+                  patch.mean_um, patch.centre_mm, patch.extent_mm, {}, {}};
+    for (int m : patch.members) d.point_index.push_back(point_of(m));
+    defects->push_back(std::move(d));
+  }
+}
+
+void AttachScreenLines(const PointSet& measured, std::vector<ScreenedPoint>* points, std::vector<LocalDefect>* defects) {
+  for (auto& p : *points) p.line = measured.LineOf(p.point_index);
+  for (auto& d : *defects) {
+    d.lines.clear();
+    for (std::size_t i : d.point_index) d.lines.push_back(measured.LineOf(i));
+  }
+}
+
+std::string ScreenReason(const OutlierScreen& screen, int i, const std::string& feature) {
+  const double r = screen.residual_um(i);
+  if (screen.flag[static_cast<std::size_t>(i)] == ScreenFlag::kOutlier)
+    return fmt::format("outlier: {:.2f} um from the fitted model, {:.2f} um from its neighbours on {} (noise {:.2f} um)", r,
+                       screen.neighbour_dev_um(i), feature, screen.sigma_um);
+  for (const auto& p : screen.patches)
+    if (std::binary_search(p.members.begin(), p.members.end(), i))
+      return fmt::format("local defect: one of {} neighbouring points on {} departing together (peak {:.2f} um over {:.1f} mm; noise {:.2f} um)",
+                         p.members.size(), feature, p.peak_um, 2.0 * p.extent_mm, screen.sigma_um);
+  return "kept";
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,114 @@
+// Screening of measured points before identification and diagnosis: single probe hits that no
+// smooth surface explains (outliers: dust on a hit, a probe bounce) and small patches of one
+// feature that depart together (local defects: a burr, a chip, a dent) are found and left out,
+// each with its reason; what stays is what the machine model and the catalogue are fitted to.
+//
+// Method. r = residuals of the least-squares fit of y on the columns of X (the base model and the
+// re-alignment) over the points not flagged, evaluated at every point. Noise sigma from
+// neighbour differences: d_i = r_i - median of r over the k nearest points of the same feature
+// (nominal positions, feature_neighbours.h), sigma = 1.4826 MAD(d) / sqrt(1 + v_k), v_k the
+// variance of that median in units of sigma^2 (0.298 for k = 4). A smooth effect the model lacks
+// hardly enters d, so sigma stays the CMM's noise when the model is incomplete, and the
+// stand-out test of the diagnosis can use it (DiagnosisResult::neighbour_sigma_um).
+// Seeds: |r_i| > seed_z sigma. A seed grows through neighbours with |r| > grow_z sigma of the
+// same sign. A component of one point whose departure from its neighbours |d_i| also exceeds
+// seed_z sigma sqrt(1 + v_k) is an outlier; a component of 2 to max_patch_points points holding
+// at most max_patch_share of its feature is a local defect; larger components are systematic and
+// stay (the diagnosis's business). A feature with more flagged components than
+// max(2, max_components_share x its points) keeps all its points (an effect of short wavelength,
+// not isolated faults). Fit and flags repeat until the flags settle (at most 8 rounds).
+// Thresholds: at seed_z = 4.5 a clean point is flagged with probability 7e-6; a 10x-noise
+// outlier is found unless its neighbours are themselves off.
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/point_set.h"
+#include "core/status.h"
+#include "kinematics/identification.h"
+#include "testpieces/point_association.h"
+
+namespace tpcal::pipeline {
+
+struct OutlierScreenOptions {
+  double seed_z = 4.5;              // |r| / sigma above which a point starts a flagged component
+  double grow_z = 3.0;              // |r| / sigma for a neighbour to join it (same sign)
+  int neighbours = 4;               // k of the neighbour comparison
+  int max_patch_points = 12;        // a larger component is systematic
+  double max_patch_share = 0.25;    // of its feature's points
+  double max_components_share = 0.05;  // flagged components per feature point (at least 2 allowed)
+  Status Validate() const;
+};
+
+enum class ScreenFlag { kKept, kOutlier, kLocalDefect };
+
+// One local defect: a patch of one feature departing together.
+struct DefectPatch {
+  int group = 0;                    // Observation::group of its points
+  std::vector<int> members;         // observation indices, in order
+  double peak_um = 0.0;             // signed residual of largest magnitude
+  double mean_um = 0.0;             // mean residual over the patch
+  Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  // mean nominal position, part frame
+  double extent_mm = 0.0;           // largest distance of a member from the centre
+};
+
+struct OutlierScreen {
+  std::vector<ScreenFlag> flag;     // per observation
+  Eigen::VectorXd residual_um;      // r of the final round, per observation
+  Eigen::VectorXd neighbour_dev_um; // d of the final round, per observation
+  double sigma_um = 0.0;            // noise sigma from neighbour differences
+  double sigma_dof = 0.0;           // its effective degrees of freedom (MAD: 0.37 n)
+  std::vector<DefectPatch> patches;
+  int rounds = 0;
+  int CountFlagged() const;
+  std::vector<int> KeptIndices() const;  // observations with kKept, in order
+};
+
+// Screens the observations: X (n x p, any scaling; rank-deficient allowed) the linear model, y
+// (n) the deviations to explain (um), observations for their groups and nominal positions. With
+// fewer than 3 points in a feature its points are never flagged. Never fails: a design with no
+// residual freedom flags nothing.
+OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                             std::span<const kinematics::Observation> observations,
+                             const OutlierScreenOptions& options = {});
+
+// The reason a flagged observation is left out, for listings: "outlier: 12.3 um from the model,
+// 11.8 um from its 4 neighbours (noise 0.50 um)" or "local defect: one of 3 points on S2 ...".
+std::string ScreenReason(const OutlierScreen& screen, int observation, const std::string& feature);
+
+// A measured point the outlier screen flagged (outlier_screen.h).
+struct ScreenedPoint {
+  std::size_t point_index = 0;  // into the measured PointSet
+  std::size_t line = 0;         // its source line (AttachScreenLines; 0 = not from a text file)
+  std::string feature;
+  std::string kind;             // "outlier" or "local_defect"
+  double deviation_um = 0.0;    // from the base model fitted without it (normal direction)
+  std::string reason;
+  bool left_out = true;         // false with DiagnosisOptions::screen_outliers off
+};
+
+// A patch of one feature departing together (burr, chip, dent, dirt).
+struct LocalDefect {
+  std::string feature;
+  int n_points = 0;
+  double peak_um = 0.0, mean_um = 0.0;                  // signed, normal direction
+  Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  // nominal position, part frame
+  double extent_mm = 0.0;                               // largest distance of a point from the centre
+  std::vector<std::size_t> point_index, lines;          // lines filled by AttachScreenLines
+};
+
+// The flagged observations of `mo` as listed points (lines 0 until AttachScreenLines) and its
+// patches; `left_out` says whether they were left out of the fit.
+void ListFlagged(const OutlierScreen& screen, const testpieces::MeasuredObservations& mo, bool left_out,
+                 std::vector<ScreenedPoint>* points, std::vector<LocalDefect>* defects);
+
+// Fills the source lines of listed points and patches from the measured point file.
+void AttachScreenLines(const PointSet& measured, std::vector<ScreenedPoint>* points, std::vector<LocalDefect>* defects);
+
+// The observations `rows` of `all` (feature names and groups unchanged, point_index kept).
+testpieces::MeasuredObservations ObservationRows(const testpieces::MeasuredObservations& all, std::span<const int> rows);
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,185 @@
+// The outlier screen (pipeline/diagnosis/outlier_screen.h) through identification and diagnosis
+// on the seed 002 turning piece machined virtually with random Table 2 errors (10-50 um / urad),
+// CMM noise sigma = 1 um (0.5 um for the diagnosis), random placement, fixed seeds.
+// Truths and tolerances (issue 18): with 1 % of the points gross outliers (10-50 sigma along the
+// normal, random sign) the identified errors move by at most 0.5 u from the clean result, >= 95 %
+// of the outliers are found and <= 1 % of the points are flagged falsely; on clean data the
+// screen flags (almost) nothing, so u grows by less than 5 % (efficiency); a burr of 3 neighbouring
+// hits at 5 sigma is a local_defect in >= 9 of 10 pieces; an error motion of 7 lobes (outside the
+// catalogue's 2 to 5) at 4 sigma is not called none in >= 9 of 10.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "core/frames.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/identify_stage.h"
+#include "pipeline/testing/turning_fixture.h"
+#include "testpieces/simulate_piece.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+using test_support::AcTable;
+using test_support::RandomTable2;
+using test_support::ToErrorState;
+using test_support::Turning;
+
+testpieces::SimulatedPiece Simulate(const std::map<std::string, double>& truth, double noise_um, std::uint64_t seed,
+                                    bool random_placement = true) {
+  testpieces::PieceSimOptions o;
+  o.noise_um = noise_um;
+  o.seed = seed;
+  o.random_placement = random_placement;
+  auto sim = testpieces::SimulatePiece(Turning(), AcTable(), ToErrorState(truth), o);
+  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
+  return *sim;
+}
+
+void Push(PointSet* points, std::size_t i, double um) { points->xyz_mm[i] += 1e-3 * um * points->normal[i]; }
+
+// 1 % of the points (at least 1) pushed along their normal by 10-50 sigma, random sign.
+std::set<std::size_t> AddGrossOutliers(PointSet* points, double sigma_um, std::mt19937_64& rng) {
+  const std::size_t m = std::max<std::size_t>(1, points->size() / 100);
+  std::uniform_int_distribution<std::size_t> pick(0, points->size() - 1);
+  std::uniform_real_distribution<double> size(10.0, 50.0);
+  std::set<std::size_t> chosen;
+  while (chosen.size() < m) chosen.insert(pick(rng));
+  for (std::size_t i : chosen) Push(points, i, (rng() % 2 ? 1.0 : -1.0) * size(rng) * sigma_um);
+  return chosen;
+}
+
+// Largest |value - reference| / u_reference over the identifiable parameters.
+double LargestShiftInU(const kinematics::IdentificationResult& reference, const kinematics::IdentificationResult& other) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < reference.parameters.size(); ++k) {
+    const auto& p = reference.parameters[k];
+    if (p.identifiable && p.u > 0) worst = std::max(worst, std::abs(other.parameters[k].value - p.value) / p.u);
+  }
+  return worst;
+}
+
+TEST(OutlierScreen, GrossOutliersMoveTheIdentificationByLessThanHalfU) {
+  std::mt19937_64 rng(18);
+  const double sigma_um = 1.0;
+  int injected = 0, found = 0, false_flags = 0, points = 0;
+  double worst_on = 0.0, worst_off = 0.0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const auto truth = RandomTable2(rng);
+    const auto sim = Simulate(truth, sigma_um, 1800 + trial);
+    auto clean = RunIdentifyStage(Turning(), AcTable(), sim.points);
+    ASSERT_TRUE(clean.ok()) << clean.status().ToString();
+    PointSet dirty = sim.points;
+    const std::set<std::size_t> chosen = AddGrossOutliers(&dirty, sigma_um, rng);
+    auto screened = RunIdentifyStage(Turning(), AcTable(), dirty);
+    ASSERT_TRUE(screened.ok()) << screened.status().ToString();
+    IdentifyStageOptions keep;
+    keep.screen_outliers = false;
+    auto kept = RunIdentifyStage(Turning(), AcTable(), dirty, keep);
+    ASSERT_TRUE(kept.ok()) << kept.status().ToString();
+    worst_on = std::max(worst_on, LargestShiftInU(clean->identification, screened->identification));
+    worst_off = std::max(worst_off, LargestShiftInU(clean->identification, kept->identification));
+    injected += static_cast<int>(chosen.size());
+    points += static_cast<int>(dirty.size());
+    for (const auto& p : screened->outliers) (chosen.count(p.point_index) ? found : false_flags) += 1;
+  }
+  std::printf("outliers found %d of %d, false flags %d of %d points, largest shift %.2f u screened, %.2f u kept\n",
+              found, injected, false_flags, points, worst_on, worst_off);
+  EXPECT_LE(worst_on, 0.5);
+  EXPECT_GT(worst_off, worst_on);  // what the screen protects against
+  EXPECT_GE(found, static_cast<int>(std::ceil(0.95 * injected))) << found << " of " << injected;
+  EXPECT_LE(false_flags, points / 100);
+}
+
+TEST(OutlierScreen, CleanDataKeepsItsEfficiency) {
+  std::mt19937_64 rng(19);
+  int flagged = 0, points = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const auto sim = Simulate(RandomTable2(rng), 1.0, 1900 + trial);
+    auto on = RunIdentifyStage(Turning(), AcTable(), sim.points);
+    IdentifyStageOptions keep;
+    keep.screen_outliers = false;
+    auto off = RunIdentifyStage(Turning(), AcTable(), sim.points, keep);
+    ASSERT_TRUE(on.ok() && off.ok());
+    flagged += static_cast<int>(on->outliers.size());
+    points += static_cast<int>(sim.points.size());
+    EXPECT_NEAR(on->neighbour_sigma_um, 1.0, 0.15);  // the noise, from neighbour differences
+    for (std::size_t k = 0; k < on->identification.parameters.size(); ++k) {
+      const auto& a = on->identification.parameters[k];
+      const auto& b = off->identification.parameters[k];
+      if (a.identifiable && b.u > 0) {
+        EXPECT_LE(a.u * a.u / (b.u * b.u), 1.05) << a.name;
+      }
+    }
+  }
+  EXPECT_LE(flagged, points / 100);
+}
+
+// The diagnosis of a piece whose points `change` modifies (noise 0.5 um, Table 2-like errors).
+template <typename Change>
+std::vector<DiagnosisResult> DiagnoseTrials(int trials, std::uint64_t seed, bool random_placement, Change change) {
+  std::mt19937_64 rng(seed);
+  std::vector<DiagnosisResult> out;
+  for (int t = 0; t < trials; ++t) {
+    auto sim = Simulate(RandomTable2(rng), 0.5, seed * 100 + static_cast<std::uint64_t>(t), random_placement);
+    change(&sim, rng);
+    auto d = Diagnose(Turning(), AcTable(), sim.points);
+    EXPECT_TRUE(d.ok()) << d.status().ToString();
+    if (d.ok()) out.push_back(std::move(*d));
+  }
+  return out;
+}
+
+TEST(OutlierScreen, BurrOfThreeHitsIsALocalDefect) {
+  int named = 0;
+  const auto results = DiagnoseTrials(10, 181, true, [](testpieces::SimulatedPiece* sim, std::mt19937_64& rng) {
+    // A random point of a random feature of at least 16 points and its two nearest hits on it.
+    PointSet& p = sim->points;
+    std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
+    std::size_t c = pick(rng);
+    while (p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]).size() < 16) c = pick(rng);
+    std::vector<std::size_t> same = p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]);
+    std::sort(same.begin(), same.end(), [&](std::size_t a, std::size_t b) {
+      return (p.xyz_mm[a] - p.xyz_mm[c]).norm() < (p.xyz_mm[b] - p.xyz_mm[c]).norm();
+    });
+    for (std::size_t k = 0; k < 3; ++k) Push(&p, same[k], 5 * 0.5);
+  });
+  for (const auto& r : results) {
+    named += r.verdict.family == "local_defect";
+  }
+  std::printf("local_defect named in %d of %zu\n", named, results.size());
+  EXPECT_GE(named, 9);
+}
+
+TEST(OutlierScreen, SevenLobesAreNotNone) {
+  int not_none = 0;
+  const auto results = DiagnoseTrials(10, 182, false, [](testpieces::SimulatedPiece* sim, std::mt19937_64&) {
+    // Radial error motion of 7 lobes (the catalogue holds 2 to 5): 4 sigma along every normal.
+    PointSet& p = sim->points;
+    const Rigid3 part_from_cmm = sim->truth.cmm_from_part.inverse();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Eigen::Vector3d q = part_from_cmm * p.xyz_mm[i];
+      Push(&p, i, 4 * 0.5 * std::cos(7.0 * std::atan2(q.y(), q.x())));
+    }
+  });
+  for (const auto& r : results) {
+    not_none += r.verdict.family != "none";
+  }
+  std::printf("7 lobes: not none in %d of %zu\n", not_none, results.size());
+  EXPECT_GE(not_none, 9);
+}
+
+TEST(OutlierScreen, CleanPiecesAreNone) {
+  int none = 0;
+  const auto results = DiagnoseTrials(10, 183, true, [](testpieces::SimulatedPiece*, std::mt19937_64&) {});
+  for (const auto& r : results) none += r.verdict.family == "none";
+  std::printf("clean: none in %d of %zu\n", none, results.size());
+  EXPECT_GE(none, 9);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
