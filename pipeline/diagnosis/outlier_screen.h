@@ -4,21 +4,23 @@
 // each with its reason; what stays is what the machine model and the catalogue are fitted to.
 //
 // Method. r = residuals of the least-squares fit of y on the columns of X (the base model and the
-// re-alignment) over the points not flagged, evaluated at every point. Noise sigma from
-// neighbour differences: d_i = r_i - median of r over the k nearest points of the same feature
-// (nominal positions, feature_neighbours.h), sigma = 1.4826 MAD(d) / sqrt(1 + v_k), v_k the
-// variance of that median in units of sigma^2 (0.298 for k = 4). A smooth effect the model lacks
-// hardly enters d, so sigma stays the CMM's noise when the model is incomplete, and the
-// stand-out test of the diagnosis can use it (DiagnosisResult::neighbour_sigma_um).
-// Seeds: |r_i| > seed_z sigma. A seed grows through neighbours with |r| > grow_z sigma of the
-// same sign. A component of one point whose departure from its neighbours |d_i| also exceeds
-// seed_z sigma sqrt(1 + v_k) is an outlier; a component of 2 to max_patch_points points holding
-// at most max_patch_share of its feature is a local defect; larger components are systematic and
-// stay (the diagnosis's business). A feature with more flagged components than
-// max(2, max_components_share x its points) keeps all its points (an effect of short wavelength,
-// not isolated faults). Fit and flags repeat until the flags settle (at most 8 rounds).
-// Thresholds: at seed_z = 4.5 a clean point is flagged with probability 7e-6; a 10x-noise
-// outlier is found unless its neighbours are themselves off.
+// re-alignment, and in the diagnosis's second pass the verdict's effect) over the points not
+// flagged, evaluated at every point. Noise sigma from neighbour differences: d_i = r_i - median
+// of r over the k nearest points of the same feature (nominal positions, feature_neighbours.h),
+// sigma = 1.4826 median |d_i| / sqrt(1 + v_k), v_k the variance of that median in units of
+// sigma^2 (0.298 for k = 4). A smooth effect the model lacks hardly enters d, so sigma stays the
+// CMM's noise when the model is incomplete (DiagnosisResult::neighbour_sigma_um).
+// Faults: components of same-sign neighbours beyond grow_z sigma. One point is an outlier when
+// |r_i| and its departure from its neighbours |d_i| / sqrt(1 + v_k) both exceed seed_z sigma;
+// 2 to max_patch_points points holding at most max_patch_share of their feature are a local
+// defect when |sum r| / sqrt(m) exceeds seed_z sigma; larger components are systematic and stay
+// (the diagnosis's business). Worst first: each round flags the faults within a factor 2 of the
+// largest and refits (a gross outlier's pull on the fit is gone before its neighbours are judged),
+// until no fault is left (at most 40 rounds). Finally the flagged points are grouped into
+// outliers and patches, and a feature with more groups than max(2, max_components_share x its
+// points) keeps all its points (an effect of short wavelength, not isolated faults).
+// Thresholds: at seed_z = 4.5 a clean point is flagged with probability 7e-6, a clean pair of
+// neighbours about 1e-6; a 10x-noise outlier is found unless its neighbours are themselves off.
 #pragma once
 
 #include <Eigen/Core>
