@@ -9,6 +9,7 @@
 
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis/diagnosis_process_candidates.h"
+#include "pipeline/diagnosis/straightness_lines.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -70,8 +71,7 @@ void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
   MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
   MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
   MachineSpec x{"linear_straightness", "quadratic to sextic straightness of X, Y, Z", {}};
-  const char* syms[] = {"E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"};
-  for (const char* s : syms) {
+  for (const std::string& s : diagnosis_internal::StraightnessSymbols()) {
     const std::string i2 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [2]}}";
     const std::string i3 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [3]}}";
     const std::string i4 = std::string("{linear_error_motion: {symbol: ") + s + ", coefficients_um_per_mm_pow: [0], powers: [4]}}";
@@ -146,28 +146,38 @@ struct MachineCandidates {
   std::map<std::string, std::vector<std::string>> item_names;  // item -> coefficient names
   std::vector<std::string> lin_names;
   kinematics::ActiveSet active;
+  // Straightness term label -> its reference line's coefficient names (power 0, power 1).
+  std::map<std::string, std::pair<std::string, std::string>> line_names;
 };
+
+// Adds the zero-valued terms of one effect item to mc.combined and records their coefficient
+// names (none when the item does not apply to this machine).
+void AddItem(const kinematics::MachineModel& machine, const std::string& item, MachineCandidates* mc) {
+  if (mc->item_names.count(item)) return;
+  auto parsed = kinematics::ParseErrorState("effects: [" + item + "]", "<diagnosis candidate>", machine);
+  if (!parsed.ok()) { mc->item_names[item] = {}; return; }  // not on this machine
+  std::vector<std::string> names;
+  for (int c = 0; c < parsed->num_coefficients(); ++c) names.push_back(parsed->coefficient_info(c).name);
+  bool ok = true;
+  for (const auto& t : parsed->terms())
+    if (!mc->combined.AddTerm(machine, t).ok()) ok = false;
+  if (!ok) names.clear();
+  mc->item_names[item] = names;
+  mc->lin_names.insert(mc->lin_names.end(), names.begin(), names.end());
+}
 
 Result<MachineCandidates> CombineMachineCandidates(const testpieces::TestPiece& piece,
                                                    const kinematics::MachineModel& machine,
                                                    const kinematics::ErrorState& errors,
                                                    const std::vector<std::string>& base_names, bool reference_mode,
                                                    std::vector<std::pair<std::string, std::string>>* not_applicable) {
-  MachineCandidates mc{MachineSpecs(machine, piece.duration_s(), not_applicable), errors, {}, {}, {}};
-  for (const auto& spec : mc.specs) {
-    for (const auto& item : spec.items) {
-      if (mc.item_names.count(item)) continue;
-      auto parsed = kinematics::ParseErrorState("effects: [" + item + "]", "<diagnosis candidate>", machine);
-      if (!parsed.ok()) { mc.item_names[item] = {}; continue; }  // not on this machine
-      std::vector<std::string> names;
-      for (int c = 0; c < parsed->num_coefficients(); ++c) names.push_back(parsed->coefficient_info(c).name);
-      bool ok = true;
-      for (const auto& t : parsed->terms())
-        if (!mc.combined.AddTerm(machine, t).ok()) ok = false;
-      if (!ok) names.clear();
-      mc.item_names[item] = names;
-      mc.lin_names.insert(mc.lin_names.end(), names.begin(), names.end());
-    }
+  MachineCandidates mc{MachineSpecs(machine, piece.duration_s(), not_applicable), errors, {}, {}, {}, {}};
+  for (const auto& spec : mc.specs)
+    for (const auto& item : spec.items) AddItem(machine, item, &mc);
+  for (const std::string& symbol : diagnosis_internal::StraightnessSymbols()) {
+    const std::string item = diagnosis_internal::ReferenceLineItem(symbol);
+    AddItem(machine, item, &mc);
+    if (mc.item_names[item].size() == 2) mc.line_names[symbol] = {mc.item_names[item][0], mc.item_names[item][1]};
   }
   if (reference_mode) mc.lin_names.insert(mc.lin_names.end(), base_names.begin(), base_names.end());
   if (!mc.lin_names.empty()) {
@@ -226,6 +236,12 @@ Status AddMachineCandidates(const kinematics::MachineModel& machine, std::span<c
                             const kinematics::SlotDesign* design, CandidateCatalogue* out) {
   auto J_lin = MachineCandidateColumns(machine, obs, mc, design);
   if (!J_lin.ok()) return J_lin.status();
+  std::map<std::string, std::pair<int, int>> line_columns;
+  auto column_of = [&](const std::string& name) {
+    return static_cast<int>(std::find(mc.lin_names.begin(), mc.lin_names.end(), name) - mc.lin_names.begin());
+  };
+  for (const auto& [symbol, names] : mc.line_names) line_columns[symbol] = {column_of(names.first), column_of(names.second)};
+  diagnosis_internal::RemoveReferenceLines(obs, mc.combined, mc.active.coefficients, line_columns, &*J_lin);
   const SharedCandidates shared(std::move(*J_lin), mc);
   for (const auto& spec : mc.specs) {
     std::vector<std::string> names;
