@@ -10,11 +10,12 @@
 
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
-#include "pipeline/identify_json.h"
-#include "pipeline/identify_summary.h"
+#include "pipeline/identify_report.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
+#include "pipeline/report/identify_json.h"
+#include "pipeline/report/identify_summary.h"
 #include "testpieces/named_pieces.h"
 
 namespace tpcal::cli {

@@ -1,4 +1,4 @@
-#include "pipeline/identify_summary.h"
+#include "pipeline/report/identify_summary.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@ std::string FixedDigits(double v, int digits = 2) { return fmt::format("{:.{}f}"
 }  // namespace
 
 std::string IdentificationSummary(const IdentificationReport& r) {
-  const auto& id = r.stage.identification;
+  const auto& id = r.identification;
   std::string out = fmt::format("{} on {}: {} points in {} features; residual RMS {} um before, {} um after (sigma {} um)\n\n",
                                 r.testpiece, r.machine, id.num_observations, id.num_groups, FixedDigits(id.rms_before_um, 3),
                                 FixedDigits(id.rms_after_um, 3), FixedDigits(id.sigma_um, 3));

@@ -1,39 +1,9 @@
-#include "pipeline/identify_json.h"
+#include "pipeline/report/identify_json.h"
 
-#include "kinematics/machine_model.h"
 #include "pipeline/report/identification_blocks.h"
 #include "pipeline/report/json_util.h"
-#include "pipeline/seed002_items.h"
 
 namespace tpcal::pipeline {
-
-Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
-                                                       const kinematics::MachineModel& machine,
-                                                       const PointSet& measured,
-                                                       const IdentifyStageOptions& options) {
-  auto stage = RunIdentifyStage(piece, machine, measured, options);
-  if (!stage.ok()) return stage.status();
-  IdentificationReport r(std::move(*stage));
-  r.testpiece = piece.name;
-  r.machine = kinematics::MachineTypeName(machine.type);
-  if (piece.kind() == testpieces::PieceKind::kTurning) {
-    auto geometry = Seed002GeometryOf(piece);
-    auto items = Seed002ItemsFromInspection(r.stage.inspection);
-    if (geometry.ok() && items.ok()) {
-      r.items = *items;
-      auto cf = kinematics::SolveSeed002(*items, *geometry, kinematics::Seed002Equations::kKinematics);
-      if (cf.ok()) r.closed_form = std::move(*cf);
-    }
-  }
-  auto motions = CAxisErrorMotions(piece, r.stage);
-  if (!motions.ok()) return motions.status();
-  r.error_motion = std::move(*motions);
-  auto straight = LinearAxisStraightness(piece, r.stage);
-  if (!straight.ok()) return straight.status();
-  r.straightness = std::move(*straight);
-  return r;
-}
-
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -41,12 +11,12 @@ using Json = nlohmann::ordered_json;
 }  // namespace
 
 std::string IdentificationJson(const IdentificationReport& report) {
-  const auto& id = report.stage.identification;
+  const auto& id = report.identification;
   Json j;
   j["schema"] = "tpcal.identification/1";
   j["testpiece"] = report.testpiece;
   j["machine"] = report.machine;
-  j["points_source"] = report.stage.inspection.points_source;
+  j["points_source"] = report.points_source;
   j["n_points"] = id.num_observations;
   j["n_features"] = id.num_groups;
   j["solver"] = "point-level least squares through the kinematic chain (Ceres), 6-DOF alignment nuisance";

@@ -1,0 +1,46 @@
+#include "pipeline/identify_report.h"
+
+#include <utility>
+
+#include "pipeline/axis_profiles.h"
+#include "pipeline/seed002_items.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+// Turning piece: the closed-form solution (kinematics equations) from the GD&T items, when the
+// piece's geometry and every item are there.
+void AddClosedForm(const testpieces::TestPiece& piece, const gdt::InspectionResult& inspection,
+                   IdentificationReport* r) {
+  if (piece.kind() != testpieces::PieceKind::kTurning) return;
+  auto geometry = Seed002GeometryOf(piece);
+  auto items = Seed002ItemsFromInspection(inspection);
+  if (!geometry.ok() || !items.ok()) return;
+  r->items = *items;
+  auto cf = kinematics::SolveSeed002(*items, *geometry, kinematics::Seed002Equations::kKinematics);
+  if (cf.ok()) r->closed_form = std::move(*cf);
+}
+
+}  // namespace
+
+Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
+                                                       const kinematics::MachineModel& machine,
+                                                       const PointSet& measured,
+                                                       const IdentifyStageOptions& options) {
+  auto stage = RunIdentifyStage(piece, machine, measured, options);
+  if (!stage.ok()) return stage.status();
+  auto motions = CAxisErrorMotions(piece, *stage);
+  if (!motions.ok()) return motions.status();
+  auto straight = LinearAxisStraightness(piece, *stage);
+  if (!straight.ok()) return straight.status();
+  IdentificationReport r(std::move(stage->identification));
+  r.testpiece = piece.name;
+  r.machine = kinematics::MachineTypeName(machine.type);
+  r.points_source = stage->inspection.points_source;
+  AddClosedForm(piece, stage->inspection, &r);
+  r.error_motion = std::move(*motions);
+  r.straightness = std::move(*straight);
+  return r;
+}
+
+}  // namespace tpcal::pipeline
