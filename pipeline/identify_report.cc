@@ -1,8 +1,11 @@
 #include "pipeline/identify_report.h"
 
+#include <fmt/format.h>
+
 #include <utility>
 
 #include "pipeline/axis_profiles.h"
+#include "pipeline/piece_loader.h"
 #include "pipeline/seed002_items.h"
 
 namespace tpcal::pipeline {
@@ -41,6 +44,24 @@ Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPie
   r.error_motion = std::move(*motions);
   r.straightness = std::move(*straight);
   return r;
+}
+
+Result<IdentificationReport> IdentifyPointFile(const IdentifyRequest& request) {
+  auto setup = LoadPiece({.testpiece = request.testpiece, .config_path = request.config_path,
+                          .machine_path = request.machine_path, .wording = {.name_piece_errors = true}});
+  if (!setup.ok()) return setup.status();
+  auto points = ReadLabelledPoints(request.points_path, setup->piece, request.labelling);
+  if (!points.ok()) return points.status();
+  auto info = [&](const std::string& line) {
+    if (request.info) request.info(line);
+  };
+  if (points->raw_scan) info("raw scan labelled: " + points->raw_scan->BriefReport());
+  IdentifyStageOptions options;
+  options.parameters = request.parameters;
+  options.identify = IdentifyOptionsFor(request.uncertainty, request.mc_trials, request.subset_trials, request.seed);
+  info(fmt::format("tpcal identify: {} points of the {} from {}", points->points.size(), setup->piece.name,
+                   request.points_path));
+  return BuildIdentificationReport(setup->piece, setup->machine, points->points, options);
 }
 
 }  // namespace tpcal::pipeline
