@@ -7,6 +7,7 @@
 //    (um, signed +V) against the U position (mm) after the identified squareness, with the
 //    least-squares reference line removed (ISO 230-1 3.4.8: P-V about the LS line) and the exact
 //    minimum-zone value (fitting/minimum_zone.h).
+// The profile structs are part of the identify report: pipeline/report/identification_report.h.
 #pragma once
 
 #include <string>
