@@ -7,41 +7,22 @@
 //    (um, signed +V) against the U position (mm) after the identified squareness, with the
 //    least-squares reference line removed (ISO 230-1 3.4.8: P-V about the LS line) and the exact
 //    minimum-zone value (fitting/minimum_zone.h).
+// The profile structs are part of the identify report: pipeline/report/identification_report.h.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/status.h"
-#include "kinematics/seed002_closed_form.h"
 #include "pipeline/identify_stage.h"
+#include "pipeline/report/identification_report.h"
 
 namespace tpcal::pipeline {
-
-struct CAxisErrorMotion {
-  std::string name;            // "C at A=0", "C at A=-90"
-  std::string faces;           // "S1 over S4"
-  double a_deg = 0.0;
-  kinematics::ErrorMotionProfile profile;
-};
 
 // Empty when the piece has no such face pairs (non-turning pieces). Errors: a face pair present
 // with fewer than 4 points on a face.
 Result<std::vector<CAxisErrorMotion>> CAxisErrorMotions(const testpieces::TestPiece& piece,
                                                         const IdentifyStageResult& stage);
-
-struct StraightnessProfile {
-  std::string name;            // "E_YX" (straightness of X in Y direction, ISO 230-1 symbol)
-  std::string feature;         // the face it comes from
-  std::string moving_axis;     // "X"
-  std::string direction;       // "Y"
-  std::vector<double> position_mm;   // moving-axis command of each point, sorted
-  std::vector<double> deviation_um;  // residual along +direction, LS line removed
-  double pv_ls_um = 0.0;       // max - min about the LS line
-  double mz_um = 0.0;          // minimum-zone straightness
-  bool mz_certified = false;
-  double slope_urad = 0.0;     // the LS line's slope (angular deviation seen by this face)
-};
 
 // Straight side faces of a 3-axis piece (machine type xyz): one profile per face with at least
 // 5 points whose cut moved one linear axis with the normal along another. Empty otherwise.

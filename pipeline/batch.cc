@@ -15,7 +15,7 @@
 #include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/run_output.h"
-#include "pipeline/run_tables.h"
+#include "pipeline/report/run_tables.h"
 #include "pipeline/report/svg_writer.h"
 
 namespace tpcal::pipeline {

@@ -1,7 +1,8 @@
-#include "pipeline/identify_summary.h"
+#include "pipeline/report/identify_summary.h"
 
 #include <gtest/gtest.h>
 
+#include "pipeline/identify_report.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
 

@@ -87,6 +87,26 @@ Status PipelineConfig::Validate() const {
   return Status::Ok();
 }
 
+Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOverrides& o, bool batch) {
+  if (!o.testpiece.empty()) c.testpiece = o.testpiece;
+  if (!o.points.empty()) c.points = o.points;
+  if (!o.machine.empty()) c.machine = o.machine;
+  if (!o.truth.empty()) c.truth = o.truth;
+  if (!o.parameters.empty()) c.parameters = o.parameters;
+  if (o.seed) c.seed = *o.seed;
+  if (o.monte_carlo_trials) c.monte_carlo_trials = *o.monte_carlo_trials;
+  if (!o.out.empty()) c.out = o.out;
+  if (!o.anchor_feature.empty()) {
+    c.anchor_feature = o.anchor_feature;
+    c.anchor_near_mm = o.anchor_near_mm;
+  }
+  if (batch && c.points.empty()) c.points = "(batch)";
+  if (Status s = c.Validate(); !s.ok()) return s;
+  if (c.out.empty())
+    return Status(StatusCode::kInvalidArgument, "no output directory: give --out DIR (or 'out' in the pipeline file)");
+  return c;
+}
+
 // The settings of a loaded pipeline document; yaml-cpp throws on node kinds the code does not
 // expect (a map as a key), which the caller turns into a parse error.
 static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const std::string& source) {

@@ -65,6 +65,26 @@ struct PipelineConfig {
 // the command line has overridden what it overrides; a batch file need not name `points`.
 Result<PipelineConfig> LoadPipelineConfig(const std::string& path);
 Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const std::string& source);
+// What `tpcal run`'s flags set over the pipeline file; empty or unset members leave it as it is.
+struct PipelineOverrides {
+  std::string testpiece{};
+  std::string points{};
+  std::string machine{};
+  std::string truth{};
+  std::vector<std::string> parameters{};
+  std::optional<std::uint64_t> seed{};
+  std::optional<int> monte_carlo_trials{};
+  std::string out{};
+  std::string anchor_feature{};  // non-empty: replaces raw_scan's anchor_feature and anchor_near_mm
+  std::optional<Eigen::Vector3d> anchor_near_mm{};
+};
+
+// `config` (a loaded file, or the defaults) with the overrides applied; a batch, whose points come
+// from its inputs, gets the placeholder points "(batch)" when it names none. Errors: Validate()'s,
+// then no output directory (kInvalidArgument "no output directory: give --out DIR (or 'out' in the
+// pipeline file)").
+Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig config, const PipelineOverrides& overrides, bool batch);
+
 // The effective configuration as YAML (every key, defaults included) for outputs.
 std::string FormatPipelineConfig(const PipelineConfig& config);
 

@@ -15,10 +15,10 @@
 
 #include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
+#include "pipeline/report/run_tables.h"
 #include "pipeline/report_html.h"
 #include "pipeline/run_config.h"
 #include "pipeline/run_json.h"
-#include "pipeline/run_tables.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -74,8 +74,8 @@ std::vector<RunFile> RenderRunFiles(const RunResult& r) {
   files.push_back({"report.html", RenderReportHtml(r)});
   files.push_back({"result.json", RunResultJson(r)});
   files.push_back({"config.yaml", FormatPipelineConfig(r.config)});
-  files.push_back({"identification.csv", IdentificationCsv(r)});
-  files.push_back({"identifiability.csv", IdentifiabilityCsv(r)});
+  files.push_back({"identification.csv", IdentificationCsv(r.stage.identification, r.truth)});
+  files.push_back({"identifiability.csv", IdentifiabilityCsv(r.stage.identification)});
   files.push_back({"characteristics.csv", CharacteristicsCsv(r.stage.inspection)});
   files.push_back({"features.csv", FeaturesCsv(r.stage.inspection)});
   for (const auto& f : r.figures) files.push_back({"figures/" + f.name + ".svg", f.svg});

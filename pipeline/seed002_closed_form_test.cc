@@ -13,7 +13,7 @@
 #include "gdt/inspection.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/seed002_closed_form.h"
-#include "pipeline/identify_json.h"
+#include "pipeline/identify_report.h"
 #include "pipeline/seed002_items.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
@@ -111,7 +111,7 @@ TEST(Seed002ClosedForm, BothSolversAgreeOnOnePointFile) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   ASSERT_TRUE(report->closed_form.has_value());
   std::map<std::string, const kinematics::ParameterEstimate*> point_level;
-  for (const auto& p : report->stage.identification.parameters) point_level[p.name] = &p;
+  for (const auto& p : report->identification.parameters) point_level[p.name] = &p;
   std::printf("\n%-14s %9s %11s %11s %8s\n", "parameter", "truth", "solver (a)", "solver (b)", "u (b)");
   int compared = 0;
   for (const auto& a : report->closed_form->parameters) {

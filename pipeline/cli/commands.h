@@ -41,6 +41,10 @@ const std::vector<Registrar>& CommandTable();
 
 // Prints "file:line: message" to stderr and returns kExitBadInput.
 int ReportError(const Status& status);
+// `json_path` "-": the JSON on stdout; otherwise the text (made only then) on stdout and, for a
+// non-empty path, the JSON written there atomically ("wrote PATH"). kExitOk, or the write error's
+// exit code after reporting it.
+int WriteJsonOrText(const std::string& json_path, const std::string& json, const std::function<std::string()>& text);
 // Prints a progress/info line to stderr unless quiet.
 void Info(const std::string& line);
 void SetQuiet(bool quiet);

@@ -2,14 +2,12 @@
 //           [--anchor FEATURE@X,Y,Z]] [--type FEATURE=KIND ...] [--criterion ls|mz] [--json OUT]
 #include <CLI/CLI.hpp>
 
-#include <iostream>
 #include <memory>
 #include <string>
 
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/fit_stage.h"
-#include "pipeline/io/atomic_file.h"
 #include "pipeline/report/fit_json.h"
 #include "testpieces/named_pieces.h"
 
@@ -32,18 +30,7 @@ int RunFit(const FitArgs& args) {
   request.info = Info;
   auto result = pipeline::RunFitStage(request);
   if (!result.ok()) return ReportError(result.status());
-
-  const std::string json = pipeline::FitResultJson(*result);
-  if (args.json == "-") {
-    std::cout << json;
-  } else {
-    std::cout << pipeline::FitSummary(*result);
-    if (!args.json.empty()) {
-      if (Status s = pipeline::WriteFileAtomic(args.json, json); !s.ok()) return ReportError(s);
-      Info("wrote " + args.json);
-    }
-  }
-  return kExitOk;
+  return WriteJsonOrText(args.json, pipeline::FitResultJson(*result), [&] { return pipeline::FitSummary(*result); });
 }
 
 }  // namespace

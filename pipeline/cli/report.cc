@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "pipeline/cli/commands.h"
+#include "pipeline/io/atomic_file.h"
 
 namespace tpcal::cli {
 namespace {
@@ -13,6 +14,18 @@ std::atomic<bool> g_quiet{false};  // set once by main before any command runs
 int ReportError(const Status& status) {
   std::cerr << status.ToString() << "\n";
   return kExitBadInput;
+}
+
+int WriteJsonOrText(const std::string& json_path, const std::string& json, const std::function<std::string()>& text) {
+  if (json_path == "-") {
+    std::cout << json;
+    return kExitOk;
+  }
+  std::cout << text();
+  if (json_path.empty()) return kExitOk;
+  if (Status s = pipeline::WriteFileAtomic(json_path, json); !s.ok()) return ReportError(s);
+  Info("wrote " + json_path);
+  return kExitOk;
 }
 
 void SetQuiet(bool quiet) { g_quiet = quiet; }

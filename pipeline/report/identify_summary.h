@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "pipeline/identify_json.h"
+#include "pipeline/report/identification_report.h"
 
 namespace tpcal::pipeline {
 

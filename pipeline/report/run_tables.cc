@@ -1,4 +1,4 @@
-#include "pipeline/run_tables.h"
+#include "pipeline/report/run_tables.h"
 
 #include <fmt/format.h>
 
@@ -34,14 +34,15 @@ std::string MethodU(const kinematics::ParameterEstimate& p, kinematics::Uncertai
 }
 }  // namespace
 
-std::string IdentificationCsv(const RunResult& r) {
+std::string IdentificationCsv(const kinematics::IdentificationResult& identification,
+                              const std::map<std::string, double>& truth_by_name) {
   using kinematics::UncertaintyMethod;
-  const bool truth = !r.truth.empty();
+  const bool truth = !truth_by_name.empty();
   std::string out =
       "name,iso_symbol,unit,identifiable,value,u,ci95_low,ci95_high,u_analytic,u_jackknife_points,"
       "u_jackknife_groups,u_monte_carlo";
   out += truth ? ",truth\n" : "\n";
-  for (const auto& p : r.stage.identification.parameters) {
+  for (const auto& p : identification.parameters) {
     out += CsvCell(p.name) + "," + CsvCell(p.iso_symbol) + "," + p.unit + "," + (p.identifiable ? "true" : "false");
     if (p.identifiable) {
       out += "," + CsvNumber(p.value) + "," + CsvNumber(p.u) + "," + CsvNumber(p.ci95_low) + "," +
@@ -53,16 +54,16 @@ std::string IdentificationCsv(const RunResult& r) {
                    UncertaintyMethod::kJackknifeGroups, UncertaintyMethod::kMonteCarlo})
       out += "," + (p.identifiable ? MethodU(p, m) : std::string());
     if (truth) {
-      auto it = r.truth.find(p.name);
-      out += "," + (it != r.truth.end() ? CsvNumber(it->second) : std::string());
+      auto it = truth_by_name.find(p.name);
+      out += "," + (it != truth_by_name.end() ? CsvNumber(it->second) : std::string());
     }
     out += "\n";
   }
   return out;
 }
 
-std::string IdentifiabilityCsv(const RunResult& r) {
-  const auto& ia = r.stage.identification.identifiability;
+std::string IdentifiabilityCsv(const kinematics::IdentificationResult& identification) {
+  const auto& ia = identification.identifiability;
   std::string out = "kind,text,value,u\n";
   out += "summary,num_parameters," + std::to_string(ia.num_parameters) + ",\n";
   out += "summary,rank," + std::to_string(ia.rank) + ",\n";

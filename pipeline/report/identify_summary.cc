@@ -1,4 +1,4 @@
-#include "pipeline/identify_summary.h"
+#include "pipeline/report/identify_summary.h"
 
 #include "pipeline/report/screen_json.h"
 
@@ -12,7 +12,7 @@ std::string FixedDigits(double v, int digits = 2) { return fmt::format("{:.{}f}"
 }  // namespace
 
 std::string IdentificationSummary(const IdentificationReport& r) {
-  const auto& id = r.stage.identification;
+  const auto& id = r.identification;
   std::string out = fmt::format("{} on {}: {} points in {} features; residual RMS {} um before, {} um after (sigma {} um)\n\n",
                                 r.testpiece, r.machine, id.num_observations, id.num_groups, FixedDigits(id.rms_before_um, 3),
                                 FixedDigits(id.rms_after_um, 3), FixedDigits(id.sigma_um, 3));
@@ -49,7 +49,7 @@ std::string IdentificationSummary(const IdentificationReport& r) {
   for (const auto& s : r.straightness)
     out += fmt::format("straightness {} from {}: {} um (LS P-V), {} um (minimum zone)\n", s.name, s.feature,
                        FixedDigits(s.pv_ls_um), FixedDigits(s.mz_um));
-  out += ScreenText(r.stage.outliers, r.stage.local_defects, r.stage.neighbour_sigma_um);
+  out += ScreenText(r.outliers, r.local_defects, r.neighbour_sigma_um);
   return out;
 }
 

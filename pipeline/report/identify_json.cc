@@ -1,40 +1,10 @@
-#include "pipeline/identify_json.h"
+#include "pipeline/report/identify_json.h"
 
-#include "kinematics/machine_model.h"
 #include "pipeline/report/identification_blocks.h"
 #include "pipeline/report/json_util.h"
 #include "pipeline/report/screen_json.h"
-#include "pipeline/seed002_items.h"
 
 namespace tpcal::pipeline {
-
-Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
-                                                       const kinematics::MachineModel& machine,
-                                                       const PointSet& measured,
-                                                       const IdentifyStageOptions& options) {
-  auto stage = RunIdentifyStage(piece, machine, measured, options);
-  if (!stage.ok()) return stage.status();
-  IdentificationReport r(std::move(*stage));
-  r.testpiece = piece.name;
-  r.machine = kinematics::MachineTypeName(machine.type);
-  if (piece.kind() == testpieces::PieceKind::kTurning) {
-    auto geometry = Seed002GeometryOf(piece);
-    auto items = Seed002ItemsFromInspection(r.stage.inspection);
-    if (geometry.ok() && items.ok()) {
-      r.items = *items;
-      auto cf = kinematics::SolveSeed002(*items, *geometry, kinematics::Seed002Equations::kKinematics);
-      if (cf.ok()) r.closed_form = std::move(*cf);
-    }
-  }
-  auto motions = CAxisErrorMotions(piece, r.stage);
-  if (!motions.ok()) return motions.status();
-  r.error_motion = std::move(*motions);
-  auto straight = LinearAxisStraightness(piece, r.stage);
-  if (!straight.ok()) return straight.status();
-  r.straightness = std::move(*straight);
-  return r;
-}
-
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -42,12 +12,12 @@ using Json = nlohmann::ordered_json;
 }  // namespace
 
 std::string IdentificationJson(const IdentificationReport& report) {
-  const auto& id = report.stage.identification;
+  const auto& id = report.identification;
   Json j;
   j["schema"] = "tpcal.identification/1";
   j["testpiece"] = report.testpiece;
   j["machine"] = report.machine;
-  j["points_source"] = report.stage.inspection.points_source;
+  j["points_source"] = report.points_source;
   j["n_points"] = id.num_observations;
   j["n_features"] = id.num_groups;
   j["solver"] = "point-level least squares through the kinematic chain (Ceres), 6-DOF alignment nuisance";
@@ -58,9 +28,9 @@ std::string IdentificationJson(const IdentificationReport& report) {
   j["identifiability"] = IdentifiabilityJson(id);
   j["fit"] = IdentificationFitJson(id);
   j["alignment"] = RigidJson(id.alignment);
-  j["outliers"] = OutliersJson(report.stage.outliers);
-  j["local_defects"] = LocalDefectsJson(report.stage.local_defects);
-  j["neighbour_sigma_um"] = report.stage.neighbour_sigma_um;
+  j["outliers"] = OutliersJson(report.outliers);
+  j["local_defects"] = LocalDefectsJson(report.local_defects);
+  j["neighbour_sigma_um"] = report.neighbour_sigma_um;
 
   if (report.closed_form) {
     const auto& cf = *report.closed_form;

@@ -7,17 +7,21 @@
 //  - features.csv: feature,kind,points,rms_um,form_um
 #pragma once
 
+#include <map>
 #include <string>
 
-#include "pipeline/run_stage.h"
+#include "gdt/inspection.h"
+#include "kinematics/identification.h"
 
 namespace tpcal::pipeline {
 
 std::string CsvCell(const std::string& text);  // quoted if needed
 std::string CsvNumber(double v);               // shortest round-trip, "" for NaN
 
-std::string IdentificationCsv(const RunResult& result);
-std::string IdentifiabilityCsv(const RunResult& result);
+// `truth`: the stated truth by parameter name (display units); empty: no truth column.
+std::string IdentificationCsv(const kinematics::IdentificationResult& identification,
+                              const std::map<std::string, double>& truth);
+std::string IdentifiabilityCsv(const kinematics::IdentificationResult& identification);
 std::string CharacteristicsCsv(const gdt::InspectionResult& inspection);
 std::string FeaturesCsv(const gdt::InspectionResult& inspection);
 

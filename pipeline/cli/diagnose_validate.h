@@ -1,0 +1,29 @@
+// `tpcal diagnose --validate`: the option group (--validate, --trials, --seed, --magnitudes,
+// --noise, --families, --markdown, --no-placement, --raw-peak) and its run, the validation on
+// simulated pieces with withheld effects (pipeline/diagnose_stage.h). CLI layer only.
+#pragma once
+
+#include <string>
+
+#include "pipeline/diagnose_stage.h"
+
+namespace CLI {
+class App;
+}
+
+namespace tpcal::cli {
+
+struct ValidateArgs {
+  bool on = false;               // --validate
+  pipeline::ValidationOptions options;
+  bool no_placement = false;     // --no-placement: options.random_placement = false
+  std::string markdown;          // also write the Markdown here
+};
+
+// Adds the group to `sub` (after the diagnosis options: --help lists them last).
+void AddValidateOptions(CLI::App* sub, ValidateArgs* args);
+
+// Prints the validation's Markdown on stdout (and writes it to --markdown). Exit code.
+int RunValidate(const ValidateArgs& args, const pipeline::LoadedPiece& setup);
+
+}  // namespace tpcal::cli

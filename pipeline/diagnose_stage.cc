@@ -1,0 +1,88 @@
+#include "pipeline/diagnose_stage.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <filesystem>
+#include <optional>
+#include <utility>
+
+#include "kinematics/errors_yaml.h"
+#include "pipeline/io/point_io.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+// The reference file by its extension: machine errors into options->reference, or a point file
+// into *points.
+Status LoadDiagnosisReference(const std::string& path, const kinematics::MachineModel& machine,
+                              DiagnosisOptions* options, std::optional<PointSet>* points) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  options->reference_name = std::filesystem::path(path).filename().string();
+  if (ext == ".yaml" || ext == ".yml") {
+    auto ref = kinematics::LoadErrorState(path, machine);
+    if (!ref.ok()) return ref.status();
+    options->reference = std::move(*ref);
+  } else if (PointFormatFromExtension(path) != PointFormat::kAuto) {
+    auto ref = ReadPoints(path);
+    if (!ref.ok()) return ref.status();
+    *points = std::move(*ref);
+  } else {
+    return Status(StatusCode::kInvalidArgument,
+                  "--reference " + path +
+                      ": expected machine errors (.yaml, .yml) or a point file (.csv, .ply, .pcd, .xyz, .txt)");
+  }
+  return Status::Ok();
+}
+
+std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, bool reference_points) {
+  return {{"points", r.points_path},
+          {"testpiece", r.config_path.empty() ? r.testpiece : r.config_path},
+          {"machine", r.machine_path.empty() ? "nominal" : r.machine_path},
+          {"reference", r.reference_path},
+          {"reference_kind", r.reference_path.empty() ? "" : (reference_points ? "points" : "machine errors")},
+          {"noise_um", fmt::format("{}", r.noise_um)},
+          {"alpha", fmt::format("{}", r.alpha)}};
+}
+
+}  // namespace
+
+Result<LoadedPiece> LoadDiagnosisPiece(const DiagnoseRequest& r) {
+  return LoadPiece({.testpiece = r.testpiece, .config_path = r.config_path, .machine_path = r.machine_path,
+                    .config_must_match_name = r.testpiece_given,
+                    .wording = {.unknown_name_prefix = "--testpiece: ", .unknown_name_suffix = " (or --config FILE)"}});
+}
+
+Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const DiagnoseRequest& r) {
+  auto points = ReadLabelledPoints(r.points_path, setup.piece, r.labelling);
+  if (!points.ok()) return points.status();
+  if (points->raw_scan && r.info) r.info("raw scan labelled: " + points->raw_scan->BriefReport());
+  DiagnosisOptions options;
+  options.noise_um = r.noise_um;
+  options.alpha = r.alpha;
+  std::optional<PointSet> reference_points;
+  if (!r.reference_path.empty()) {
+    if (Status s = LoadDiagnosisReference(r.reference_path, setup.machine, &options, &reference_points); !s.ok())
+      return s;
+  }
+  if (r.info)
+    r.info(fmt::format("tpcal diagnose: {} points of the {} from {}", points->points.size(), setup.piece.name,
+                       r.points_path));
+  auto result = reference_points
+                    ? DiagnoseAgainstPoints(setup.piece, setup.machine, points->points, *reference_points, options)
+                    : Diagnose(setup.piece, setup.machine, points->points, options);
+  if (!result.ok()) return result.status();
+  return DiagnoseStageResult{std::move(*result), DiagnosisInputs(r, reference_points.has_value())};
+}
+
+Result<std::string> RunValidationStage(const LoadedPiece& setup, const ValidationOptions& v) {
+  auto summary = RunValidation(setup.piece, setup.machine, v);
+  if (!summary.ok()) return summary.status();
+  return fmt::format("Diagnosis validation: {} piece, seed {}, trials {}, magnitudes {} ({} peak), noise {} um\n\n",
+                     setup.piece.name, v.seed, v.trials, fmt::join(v.magnitudes, ","),
+                     v.scale_raw_peak ? "raw signature" : "visible signature", fmt::join(v.noise_um, ",")) +
+         ValidationMarkdown(*summary);
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,56 @@
+// The stage of `tpcal diagnose`: a measured test piece (a raw scan is labelled first) against the
+// fitted base model, against machine errors (not refitted), or point by point against a reference
+// point file (pipeline/diagnosis/diagnosis.h); and `--validate`, the diagnosis on simulated pieces
+// with withheld effects (pipeline/diagnosis/diagnosis_validate.h). Nothing is written here.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+
+#include "core/status.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/diagnosis/diagnosis_validate.h"
+#include "pipeline/piece_loader.h"
+#include "pipeline/raw_scan_labeling.h"
+
+namespace tpcal::pipeline {
+
+struct DiagnoseRequest {
+  std::string points_path{};
+  std::string testpiece = "turning";  // NAME (testpieces/named_pieces.h)
+  std::string config_path{};          // "" = NAME's defaults
+  std::string machine_path{};         // "" = the piece's nominal machine
+  bool testpiece_given = false;       // NAME was asked for: a configuration must be for that piece
+  // "" = the fitted base model; machine errors (.yaml / .yml, tpcal.errors/1) or a point file (an
+  // extension ReadPoints knows: .csv, .ply, .pcd, .xyz, .txt)
+  std::string reference_path{};
+  double noise_um = 0.0;              // known CMM noise sigma; 0 = estimated
+  double alpha = 0.01;                // family-wise false-alarm probability of the verdict
+  RawScanLabelingOptions labelling{};  // the labelling of a raw scan
+  std::function<void(const std::string& line)> info{};  // progress lines; may be empty
+};
+
+struct DiagnoseStageResult {
+  DiagnosisResult diagnosis;
+  // The "inputs" of the diagnosis JSON: points, testpiece (the configuration file if given),
+  // machine ("nominal" if none), reference, reference_kind ("points", "machine errors" or ""),
+  // noise_um, alpha.
+  std::map<std::string, std::string> inputs;
+};
+
+// The piece and machine of the request. Errors: those of LoadPiece, an unknown NAME worded
+// "--testpiece: ... (or --config FILE)".
+Result<LoadedPiece> LoadDiagnosisPiece(const DiagnoseRequest& request);
+
+// Errors, in this order: the point file's and the labelling's; a reference of neither kind
+// (kInvalidArgument "--reference PATH: expected machine errors (.yaml, .yml) or a point file
+// (...)"), the reference file's; the diagnosis's.
+Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const DiagnoseRequest& request);
+
+// The validation's Markdown: a title line naming the piece, seed, trials, magnitudes (raw or
+// visible signature peak) and noise levels (um), a blank line, then ValidationMarkdown. Errors:
+// those of RunValidation.
+Result<std::string> RunValidationStage(const LoadedPiece& setup, const ValidationOptions& options);
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,70 @@
+#include "pipeline/identify_report.h"
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include "pipeline/axis_profiles.h"
+#include "pipeline/piece_loader.h"
+#include "pipeline/seed002_items.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+// Turning piece: the closed-form solution (kinematics equations) from the GD&T items, when the
+// piece's geometry and every item are there.
+void AddClosedForm(const testpieces::TestPiece& piece, const gdt::InspectionResult& inspection,
+                   IdentificationReport* r) {
+  if (piece.kind() != testpieces::PieceKind::kTurning) return;
+  auto geometry = Seed002GeometryOf(piece);
+  auto items = Seed002ItemsFromInspection(inspection);
+  if (!geometry.ok() || !items.ok()) return;
+  r->items = *items;
+  auto cf = kinematics::SolveSeed002(*items, *geometry, kinematics::Seed002Equations::kKinematics);
+  if (cf.ok()) r->closed_form = std::move(*cf);
+}
+
+}  // namespace
+
+Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
+                                                       const kinematics::MachineModel& machine,
+                                                       const PointSet& measured,
+                                                       const IdentifyStageOptions& options) {
+  auto stage = RunIdentifyStage(piece, machine, measured, options);
+  if (!stage.ok()) return stage.status();
+  auto motions = CAxisErrorMotions(piece, *stage);
+  if (!motions.ok()) return motions.status();
+  auto straight = LinearAxisStraightness(piece, *stage);
+  if (!straight.ok()) return straight.status();
+  IdentificationReport r(std::move(stage->identification));
+  r.testpiece = piece.name;
+  r.machine = kinematics::MachineTypeName(machine.type);
+  r.points_source = stage->inspection.points_source;
+  r.outliers = stage->outliers;
+  r.local_defects = stage->local_defects;
+  r.neighbour_sigma_um = stage->neighbour_sigma_um;
+  AddClosedForm(piece, stage->inspection, &r);
+  r.error_motion = std::move(*motions);
+  r.straightness = std::move(*straight);
+  return r;
+}
+
+Result<IdentificationReport> IdentifyPointFile(const IdentifyRequest& request) {
+  auto setup = LoadPiece({.testpiece = request.testpiece, .config_path = request.config_path,
+                          .machine_path = request.machine_path, .wording = {.name_piece_errors = true}});
+  if (!setup.ok()) return setup.status();
+  auto points = ReadLabelledPoints(request.points_path, setup->piece, request.labelling);
+  if (!points.ok()) return points.status();
+  auto info = [&](const std::string& line) {
+    if (request.info) request.info(line);
+  };
+  if (points->raw_scan) info("raw scan labelled: " + points->raw_scan->BriefReport());
+  IdentifyStageOptions options;
+  options.parameters = request.parameters;
+  options.identify = IdentifyOptionsFor(request.uncertainty, request.mc_trials, request.subset_trials, request.seed);
+  info(fmt::format("tpcal identify: {} points of the {} from {}", points->points.size(), setup->piece.name,
+                   request.points_path));
+  return BuildIdentificationReport(setup->piece, setup->machine, points->points, options);
+}
+
+}  // namespace tpcal::pipeline

@@ -1,0 +1,24 @@
+// The text `tpcal run` prints on stdout: one row per identified parameter (name, short ISO 230-1
+// symbol, value, u (k = 1), 95 % interval, unit; um and urad with fixed decimals, polynomial
+// coefficients (um per mm^k) with 4 significant digits, a parameter the data cannot separate as
+// "n/a ... not identifiable"), then the rank, condition number and residual RMS (um), then the
+// gap diagnosis in one line.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/status.h"
+#include "kinematics/identification.h"
+#include "pipeline/diagnosis/diagnosis.h"
+
+namespace tpcal::pipeline {
+
+// The header row, one row per parameter and "rank R of N, condition number C; residual RMS B um -> A um".
+std::string RunParameterTable(const kinematics::IdentificationResult& identification);
+
+// "gap diagnosis: FAMILY (NAME), shrink S % (cross-validated C %)" for a diagnosis; without one,
+// "gap diagnosis: not made: WHY" when it was asked for, else "". Each line ends in a newline.
+std::string GapDiagnosisLine(const std::optional<DiagnosisResult>& diagnosis, bool asked, const Status& why_not);
+
+}  // namespace tpcal::pipeline
