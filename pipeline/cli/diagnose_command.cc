@@ -112,6 +112,7 @@ int RunDiagnose(const DiagnoseArgs& args) {
       auto ref = kinematics::LoadErrorState(args.reference, setup->machine);
       if (!ref.ok()) return ReportError(ref.status());
       options.reference = std::move(*ref);
+      options.reference_path = args.reference;
     } else if (pipeline::PointFormatFromExtension(args.reference) != pipeline::PointFormat::kAuto) {
       auto ref = pipeline::ReadPoints(args.reference);
       if (!ref.ok()) return ReportError(ref.status());
