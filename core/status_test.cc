@@ -10,6 +10,9 @@ TEST(Status, FormatsFileLineMessage) {
   EXPECT_EQ(s.ToString(), "cmm.csv:12: expected a number in column 'x', got 'abc'");
   EXPECT_EQ(Status(StatusCode::kIoError, "cannot open", "a.csv").ToString(), "a.csv: cannot open");
   EXPECT_EQ(Status(StatusCode::kDegenerate, "collinear").ToString(), "collinear");
+  // No line (the whole file at fault): never "line 0" nor ":0:".
+  EXPECT_EQ(Status(StatusCode::kParseError, "empty file", "e.pcd", 0).ToString(), "e.pcd: empty file");
+  EXPECT_EQ(Status(StatusCode::kParseError, "empty file").WithLocation("e.pcd", 0).ToString(), "e.pcd: empty file");
   EXPECT_TRUE(Status::Ok().ok());
 }
 

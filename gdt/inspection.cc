@@ -34,15 +34,26 @@ std::string Plural(std::size_t n, const char* word) {
   return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
+// A feature of the plan without points: cited at its plan line when the plan is a file, else at
+// the point file (the plan of a test piece has no lines).
+Status NoPointsOf(const InspectionPlan& plan, const FeatureSpec& f, const PointSet& ps) {
+  const std::string expected = "; expected at least " + Plural(MinPoints(f.kind), "point") + " labelled '" + f.name +
+                               "' (a " + FeatureKindName(f.kind) + ")";
+  const std::string points = ps.source.empty() ? std::string("the point set") : ps.source;
+  if (f.line != 0 || ps.source.empty())
+    return PlanError(plan, f.line, "feature '" + f.name + "' has no points in " + points + expected);
+  return Status(StatusCode::kInvalidArgument,
+                "feature '" + f.name + "' of the inspection plan of the " + plan.name + " has no points" + expected,
+                ps.source);
+}
+
 Result<PointsByFeature> CollectPoints(const InspectionPlan& plan, const PointSet& ps) {
   PointsByFeature out;
   for (const FeatureSpec& f : plan.features) {
     if (f.kind == FeatureKind::kPitchCircle) continue;
     FeaturePoints fp;
     fp.indices = ps.IndicesOf(f.name);
-    if (fp.indices.empty())
-      return PlanError(plan, f.line, "feature '" + f.name + "' has no points in " +
-                                         (ps.source.empty() ? std::string("the point set") : ps.source));
+    if (fp.indices.empty()) return NoPointsOf(plan, f, ps);
     fp.first_line = ps.LineOf(fp.indices.front());
     if (fp.indices.size() < MinPoints(f.kind))
       return Status(StatusCode::kTooFewPoints,

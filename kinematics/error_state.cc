@@ -6,6 +6,7 @@
 #include <regex>
 #include <set>
 
+#include "core/input_echo.h"
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
 
@@ -557,6 +558,23 @@ Result<ActiveSet> SelectCoefficients(const ErrorState& errors, const std::vector
   return out;
 }
 
+namespace {
+
+constexpr std::size_t kMaxNamesListed = 16;  // of the catalog, in an unknown-parameter message
+
+Status UnknownParameter(const MachineModel& model, const std::string& name) {
+  const std::vector<ParameterInfo> catalog = ParameterCatalog(model);
+  std::string known;
+  for (std::size_t k = 0; k < catalog.size() && k < kMaxNamesListed; ++k) known += (k ? ", " : "") + catalog[k].name;
+  if (catalog.size() > kMaxNamesListed) known += ", ...; every one in kinematics/errors_yaml.md";
+  return Status(StatusCode::kInvalidArgument,
+                "unknown parameter '" + EchoInput(name) + "'; expected one of the " + std::to_string(catalog.size()) +
+                    " parameters of the " + MachineTypeName(model.type) + " machine (" + known +
+                    "), a polynomial error-motion coefficient such as E_ZX.c2, or a coefficient of the error terms");
+}
+
+}  // namespace
+
 Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* errors,
                                      const std::vector<std::string>& names) {
   // Polynomial error motions of linear axes asked for by coefficient name ("E_ZX.c2"): symbol ->
@@ -570,7 +588,8 @@ Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* erro
       continue;
     }
     std::smatch m;
-    if (std::regex_match(n, m, kPolynomial)) powers[m[1].str()].push_back(std::stoi(m[2].str()));
+    if (!std::regex_match(n, m, kPolynomial)) return UnknownParameter(model, n);
+    powers[m[1].str()].push_back(std::stoi(m[2].str()));
   }
   for (auto& [symbol, p] : powers) {
     const bool exists = std::any_of(errors->terms().begin(), errors->terms().end(),
@@ -587,7 +606,8 @@ Result<ActiveSet> ActivateParameters(const MachineModel& model, ErrorState* erro
     const std::string text = "effects:\n  - linear_error_motion: {symbol: " + symbol + ", powers: [" + list +
                              "], coefficients_" + (angular ? "urad" : "um") + "_per_mm_pow: [" + zeros + "]}\n";
     auto parsed = ParseErrorState(text, "<parameters " + symbol + ">", model);
-    if (!parsed.ok()) return parsed.status();
+    if (!parsed.ok())  // the generated text is no file: name the parameters instead
+      return Status(parsed.status().code(), "parameters of " + symbol + " (powers " + list + "): " + parsed.status().message());
     for (const ErrorTerm& t : parsed->terms()) TPCAL_RETURN_IF_ERROR(errors->AddTerm(model, t));
   }
   return SelectCoefficients(*errors, names);

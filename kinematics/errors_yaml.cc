@@ -533,4 +533,12 @@ std::string FormatErrorState(const ErrorState& errors, const MachineModel& model
   return out;
 }
 
+Status AtErrorsFile(const Status& status, const std::string& path) {
+  if (status.code() != StatusCode::kNotConverged || !status.file().empty() || path.empty()) return status;
+  return Status(StatusCode::kNotConverged,
+                status.message() + "; expected machine errors small against the piece (a machine tool's: "
+                                   "micrometres and microradians)",
+                path);
+}
+
 }  // namespace tpcal::kinematics

@@ -19,4 +19,9 @@ Result<ErrorState> ParseErrorState(const std::string& yaml_text, const std::stri
 // YAML text that ParseErrorState reads back to the same state (values to 17 significant digits).
 std::string FormatErrorState(const ErrorState& errors, const MachineModel& model);
 
+// An error of simulating the machine with the errors read from `path` (a file or "--option"): a
+// surface point that does not converge (kNotConverged) means errors far too large, so it is
+// located at `path` and says what was expected; any other status is returned unchanged.
+Status AtErrorsFile(const Status& status, const std::string& path);
+
 }  // namespace tpcal::kinematics

@@ -395,5 +395,26 @@ TEST(ActiveSets, StandardSetsActivateFromZeroErrors) {
   }
 }
 
+TEST(ActiveSets, AnUnknownNameListsTheKnownOnesBounded) {
+  Result<MachineModel> m = MakeMachine(MachineType::kAcTable);
+  ASSERT_TRUE(m.ok());
+  ErrorState e(*m);
+  Result<ActiveSet> bad = ActivateParameters(*m, &e, {"E_X0A", "NOPE"});
+  ASSERT_FALSE(bad.ok());
+  const std::string message = bad.status().message();
+  EXPECT_EQ(message.rfind("unknown parameter 'NOPE'; expected one of the " +
+                              std::to_string(ParameterCatalog(*m).size()) + " parameters of the ac_table machine (E_X0A, ",
+                          0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("...; every one in kinematics/errors_yaml.md"), std::string::npos) << message;
+  EXPECT_EQ(message.find("gamma_CR(-90)"), std::string::npos) << "listed beyond the bound: " << message;
+  // A power beyond the polynomial's names the parameter, not a generated text.
+  Result<ActiveSet> power = ActivateParameters(*m, &e, {"E_ZX.c99"});
+  ASSERT_FALSE(power.ok());
+  EXPECT_TRUE(power.status().file().empty()) << power.status().ToString();
+  EXPECT_EQ(power.status().message().rfind("parameters of E_ZX (powers 99): ", 0), 0u) << power.status().message();
+}
+
 }  // namespace
 }  // namespace tpcal::kinematics

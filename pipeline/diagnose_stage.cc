@@ -24,6 +24,7 @@ Status LoadDiagnosisReference(const std::string& path, const kinematics::Machine
     auto ref = kinematics::LoadErrorState(path, machine);
     if (!ref.ok()) return ref.status();
     options->reference = std::move(*ref);
+    options->reference_path = path;
   } else if (PointFormatFromExtension(path) != PointFormat::kAuto) {
     auto ref = ReadPoints(path);
     if (!ref.ok()) return ref.status();

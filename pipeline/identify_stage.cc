@@ -150,14 +150,15 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine, const PointSet& measured,
                                              const IdentifyStageOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.scan_cells.Validate());
-  if (options.on_step) options.on_step("gdt");
-  auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
-  if (!inspection.ok()) return inspection.status();
   std::vector<std::string> parameters =
       options.parameters.empty() ? testpieces::DefaultParameterSet(piece, machine) : options.parameters;
   kinematics::ErrorState base(machine);
   auto active = kinematics::ActivateParameters(machine, &base, parameters);
-  if (!active.ok()) return active.status();
+  if (!active.ok())
+    return options.parameters.empty() ? active.status() : active.status().WithLocation(options.parameters_origin);
+  if (options.on_step) options.on_step("gdt");
+  auto inspection = gdt::EvaluatePlan(piece.inspection, measured);
+  if (!inspection.ok()) return inspection.status();
 
   // Each measured point is associated with the nominal surface point at its foot (the cut that
   // made it). The datum frame built from measured features is itself off by the errors, so the

@@ -29,6 +29,7 @@ namespace tpcal::pipeline {
 
 struct IdentifyStageOptions {
   std::vector<std::string> parameters;  // empty: testpieces::DefaultParameterSet
+  std::string parameters_origin = "--parameters";  // where `parameters` came from: their errors are located there
   kinematics::IdentifyOptions identify;
   ScanCellOptions scan_cells;           // dense scans are pooled (above_points 0: never)
   // Called as each step starts: "gdt", "associate", "scan cells" (pooled files only), "identify"
@@ -65,7 +66,8 @@ kinematics::IdentifyOptions IdentifyOptionsFor(const std::string& uncertainty, i
                                                std::uint64_t seed);
 
 // Errors (file:line where a point is at fault): those of gdt::EvaluatePlan and
-// testpieces::AssociatePoints (fail policy), unknown parameters, invalid scan-cell options, and
+// testpieces::AssociatePoints (fail policy), unknown parameters (at parameters_origin, listing the
+// known names), invalid scan-cell options, and
 // those of kinematics::Identify.
 Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine, const PointSet& measured,

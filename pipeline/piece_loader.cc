@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <exception>
+#include <optional>
+#include <string>
 
+#include "core/input_echo.h"
 #include "kinematics/machine_yaml.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
+#include "testpieces/probing_plan.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -37,7 +41,7 @@ Result<testpieces::PieceConfig> LoadConfig(const PieceRequest& r) {
   return loaded;
 }
 
-Status ApplyDensity(const std::string& density, int levels, testpieces::PieceConfig* config) {
+Status ApplyDensity(const std::string& density, std::optional<int> levels, testpieces::PieceConfig* config) {
   if (density.empty() || density == "paper") {
     // the configuration's probing section (its defaults are the paper's plan)
   } else if (density == "dense") {
@@ -56,9 +60,23 @@ Status ApplyDensity(const std::string& density, int levels, testpieces::PieceCon
     config->probing.points_per_circle = per_circle;
     config->probing.points_per_hole = std::max(3, per_circle / 2);
   }
-  if (levels < 0) return Status(StatusCode::kInvalidArgument, "--levels must be >= 1");
-  if (levels > 0) config->probing.levels_per_face = levels;
+  if (!levels) return Status::Ok();
+  if (*levels < 1)
+    return Status(StatusCode::kInvalidArgument,
+                  "--levels: expected a number of probing levels per face >= 1, got " + std::to_string(*levels));
+  config->probing.levels_per_face = *levels;
   return Status::Ok();
+}
+
+// A plan beyond testpieces::kMaxPlanPoints, named after the options that asked for it.
+Status CheckRequestPlanSize(const PieceRequest& r, const testpieces::TestPiece& piece) {
+  Status s = testpieces::CheckPlanSize(piece, piece.config.probing);
+  if (s.ok()) return s;
+  std::string options;
+  if (!r.density.empty() && r.density != "paper") options = "--density " + EchoInput(r.density);
+  if (r.levels) options += (options.empty() ? "--levels " : " --levels ") + std::to_string(*r.levels);
+  if (!options.empty()) return s.WithContext(options);
+  return r.config_path.empty() ? s : s.WithLocation(r.config_path);
 }
 
 Status LocatePieceError(const PieceRequest& r, Status s) {
@@ -86,6 +104,7 @@ Result<LoadedPiece> LoadPiece(const PieceRequest& request) {
   if (!machine.ok()) return machine.status();
   auto piece = testpieces::MakeTestPiece(*config, *machine);
   if (!piece.ok()) return LocatePieceError(request, piece.status());
+  if (Status s = CheckRequestPlanSize(request, *piece); !s.ok()) return s;
   return LoadedPiece{std::move(*machine), std::move(*piece)};
 }
 

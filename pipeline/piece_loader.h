@@ -7,6 +7,7 @@
 // geometry (turning, cone_frustum: ac_table; M1, M2: xyz).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/status.h"
@@ -33,10 +34,11 @@ struct PieceRequest {
   bool allow_piece_file = false;
   bool config_must_match_name = true;  // false: a configuration of any piece replaces NAME's
   // Probing-density overrides: "" or paper (as configured), dense, or N points per circle (N/2,
-  // at least 3, per hole); levels > 0: probing.levels_per_face. The configuration is validated
-  // after them (errors at the configuration file, if given).
+  // at least 3, per hole); levels (>= 1 when set): probing.levels_per_face. The configuration is
+  // validated after them (errors at the configuration file, if given), and the plan they make
+  // must stay within testpieces::kMaxPlanPoints.
   std::string density{};
-  int levels = 0;
+  std::optional<int> levels{};
   PieceErrorWording wording{};
 };
 
@@ -48,7 +50,9 @@ struct LoadedPiece {
 // Errors, in this order (file:line where a file is at fault): an unknown NAME (listing the names;
 // with allow_piece_file "unknown test piece 'X' (expected one of: ..., or a tpcal.testpiece/1
 // file)"), configuration file errors, a configuration for another piece, bad density or levels,
-// machine file errors, a machine the piece cannot be cut on.
+// machine file errors, a machine the piece cannot be cut on, a probing plan of more than
+// testpieces::kMaxPlanPoints points (named after --density / --levels when given, else at the
+// configuration file).
 Result<LoadedPiece> LoadPiece(const PieceRequest& request);
 
 }  // namespace tpcal::pipeline

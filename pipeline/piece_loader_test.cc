@@ -82,6 +82,24 @@ TEST(PieceLoader, DensityOverridesTheProbing) {
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.status().message(), "--density: expected paper, dense or a number of points per circle >= 3, got '2'");
   EXPECT_FALSE(LoadPiece({.testpiece = "turning", .levels = -1}).ok());
+  auto zero = LoadPiece({.testpiece = "turning", .levels = 0});  // given, so not "as configured"
+  ASSERT_FALSE(zero.ok());
+  EXPECT_EQ(zero.status().message(), "--levels: expected a number of probing levels per face >= 1, got 0");
+}
+
+TEST(PieceLoader, APlanBeyondTheBoundIsRefusedNamingTheOption) {
+  auto huge = LoadPiece({.testpiece = "turning", .density = "1000000000"});
+  ASSERT_FALSE(huge.ok());
+  EXPECT_EQ(huge.status().message().rfind("--density 1000000000: the probing plan of the ", 0), 0u)
+      << huge.status().message();
+  auto levels = LoadPiece({.testpiece = "turning", .density = "dense", .levels = 1'000'000});
+  ASSERT_FALSE(levels.ok());
+  EXPECT_EQ(levels.status().message().rfind("--density dense --levels 1000000: ", 0), 0u) << levels.status().message();
+  const std::string config =
+      WriteTemp("huge.yaml", "schema: tpcal.testpiece/1\npiece: turning\nprobing:\n  points_per_circle: 100000000\n");
+  auto from_file = LoadPiece({.testpiece = "turning", .config_path = config});
+  ASSERT_FALSE(from_file.ok());
+  EXPECT_EQ(from_file.status().file(), config);
 }
 
 TEST(PieceLoader, PieceErrorsAreNamedAndLocatedAsAsked) {

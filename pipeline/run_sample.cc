@@ -9,6 +9,7 @@
 #include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/errors_yaml.h"
+#include "testpieces/probing_plan.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -109,8 +110,10 @@ Result<SimulatedSample> SimulateSample(const SampleTruth& truth) {
   if (truth.levels_per_face) density.levels_per_face = *truth.levels_per_face;
   if (truth.levels_per_hole) density.levels_per_hole = *truth.levels_per_hole;
   sim.density = density;
+  if (Status s = density.Validate(); !s.ok()) return s.WithLocation(truth.source);
+  if (Status s = testpieces::CheckPlanSize(setup->piece, density); !s.ok()) return s.WithLocation(truth.source);
   auto simulated = testpieces::SimulatePiece(setup->piece, setup->machine, *errors, sim);
-  if (!simulated.ok()) return simulated.status();
+  if (!simulated.ok()) return kinematics::AtErrorsFile(simulated.status(), truth.source);
   return SimulatedSample{std::move(*setup), std::move(*errors), std::move(*simulated)};
 }
 

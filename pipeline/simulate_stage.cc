@@ -140,7 +140,7 @@ Result<SimulateStageResult> RunSimulateStage(const LoadedPiece& loaded, const Si
                    kinematics::MachineTypeName(loaded.machine.type), errors->terms().size(), request.errors_path,
                    loaded.piece.duration_s() / 60.0));
   auto sim = testpieces::SimulatePiece(loaded.piece, loaded.machine, *errors, options);
-  if (!sim.ok()) return sim.status().WithContext("simulating " + loaded.piece.name);
+  if (!sim.ok()) return kinematics::AtErrorsFile(sim.status().WithContext("simulating " + loaded.piece.name), request.errors_path);
   info(fmt::format("simulated {} points: CMM noise {} um (seed {}), probe radius error {} um, placement {}{}{}",
                    sim->points.size(), request.noise_um, request.seed, request.probe_radius_error_um,
                    request.placement, process.deflection ? ", tool deflection" : "",

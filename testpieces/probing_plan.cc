@@ -1,5 +1,6 @@
 #include "testpieces/probing_plan.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/units.h"
@@ -101,10 +102,54 @@ Status SampleFeature(const TestPiece& piece, const NominalFeature& f, const Prob
   return Status::Ok();
 }
 
+// a * b for counts >= 0, saturated at kPlanCountCap (no overflow for any int inputs).
+constexpr std::int64_t kPlanCountCap = std::int64_t{1} << 62;
+std::int64_t CappedProduct(std::int64_t a, std::int64_t b) {
+  if (a == 0 || b == 0) return 0;
+  return a > kPlanCountCap / b ? kPlanCountCap : a * b;
+}
+
+// The number of levels Levels() returns for `count`.
+std::int64_t LevelCount(const NominalFeature& f, int count) {
+  if ((count == 1 || f.fixed_levels) && !f.design_levels_mm.empty())
+    return static_cast<std::int64_t>(f.design_levels_mm.size());
+  return std::max(count, 0);
+}
+
+std::int64_t FeaturePointCount(const NominalFeature& f, const ProbingOptions& o) {
+  switch (f.pattern) {
+    case ProbePattern::kCircles:
+      return f.hole ? CappedProduct(std::max(o.points_per_hole, 0), LevelCount(f, o.levels_per_hole))
+                    : CappedProduct(std::max(o.points_per_circle, 0), LevelCount(f, o.levels_per_face));
+    case ProbePattern::kLines: return CappedProduct(std::max(o.points_per_line, 0), LevelCount(f, o.levels_per_face));
+    case ProbePattern::kGrid: {
+      const std::int64_t raster = std::int64_t{std::max(o.grid_per_side, 0)} * (f.hole_uv_mm.empty() ? 1 : 4);
+      return CappedProduct(raster, raster);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
+
+std::int64_t PlannedPointCount(const TestPiece& piece, const ProbingOptions& options) {
+  std::int64_t total = 0;
+  for (const NominalFeature& f : piece.features) total = std::min(kPlanCountCap, total + FeaturePointCount(f, options));
+  return total;
+}
+
+Status CheckPlanSize(const TestPiece& piece, const ProbingOptions& options) {
+  const std::int64_t n = PlannedPointCount(piece, options);
+  if (n <= kMaxPlanPoints) return Status::Ok();
+  const std::string count = n == kPlanCountCap ? "more than 4e18" : std::to_string(n);
+  return Status(StatusCode::kInvalidArgument,
+                "the probing plan of the " + piece.name + " would hold " + count + " points; expected at most " +
+                    std::to_string(kMaxPlanPoints) + " (about 1 kB of memory each, within a 4 GB budget)");
+}
 
 Result<ProbingPlan> MakeProbingPlan(const TestPiece& piece, const ProbingOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
+  TPCAL_RETURN_IF_ERROR(CheckPlanSize(piece, options));
   ProbingPlan plan;
   plan.piece_name = piece.name;
   plan.part_from_datum = piece.part_from_datum;

@@ -147,6 +147,26 @@ TEST(TurningPiece, CountsOfThePaperPlanAndTheDenseOne) {
   EXPECT_EQ(count["H1"], 16 * 3);
 }
 
+TEST(TurningPiece, PlanSizeIsCountedAndBoundedBeforeAnyPointIsMade) {
+  const TestPiece piece = TurningPieceUnderTest();
+  for (const ProbingOptions& density : {ProbingOptions::Paper(), ProbingOptions::Dense()}) {
+    auto plan = MakeProbingPlan(piece, density);
+    ASSERT_TRUE(plan.ok());
+    EXPECT_EQ(PlannedPointCount(piece, density), static_cast<std::int64_t>(plan->points.size()));
+  }
+  ProbingOptions huge;
+  huge.points_per_circle = 1'000'000'000;
+  huge.levels_per_face = 1'000'000'000;  // 10^18 per face: counted without overflow
+  EXPECT_GT(PlannedPointCount(piece, huge), kMaxPlanPoints);
+  huge.grid_per_side = 2'000'000'000;
+  EXPECT_GT(PlannedPointCount(piece, huge), kMaxPlanPoints);
+  auto refused = MakeProbingPlan(piece, huge);  // returns at once: nothing allocated
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("expected at most 3000000"), std::string::npos)
+      << refused.status().message();
+}
+
 TEST(TurningPiece, AssociationOfMeasuredPointsNearAFeature) {
   const TestPiece piece = TurningPieceUnderTest();
   auto plan = MakeProbingPlan(piece);

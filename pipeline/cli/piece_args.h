@@ -3,6 +3,7 @@
 // CLI layer only.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,7 +23,7 @@ struct PieceArgs {
   std::string config;   // optional tpcal.testpiece/1 YAML (its `piece:` must agree with testpiece)
   std::string machine;  // tpcal.machine/1 YAML; optional for plan (default: the piece's usual machine)
   std::string density;  // "" or paper (as configured), dense, or N points per circle
-  int levels = 0;       // 0: as configured; else probing.levels_per_face
+  std::optional<int> levels;  // unset: as configured; else probing.levels_per_face (>= 1)
 };
 
 // Adds --testpiece, --config, --machine, --density, --levels to `sub`.

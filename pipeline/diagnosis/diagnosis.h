@@ -91,6 +91,7 @@ struct DiagnosisOptions {
   // base set refitted) joins the catalogue.
   std::optional<kinematics::ErrorState> reference;
   std::string reference_name = "reference";     // for base_model in the report
+  std::string reference_path;                   // the file of `reference`: errors it causes are located there
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
   // Another family is also named indistinguishable from the verdict when one of its candidates
   // reproduces at least this share of the energy of the verdict's fitted signature (on this piece

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis/diagnosis_candidates.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
@@ -105,7 +106,8 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
   for (int pass = 0; pass < passes; ++pass) {
     const auto slots = DiagnosisSlotUnion(fit.errors, base_coefficients, *candidate_slots);
     auto design = PassDesign(machine, obs, options, fit.errors, slots, pass == 0, reference_mode);
-    if (!design.ok()) return design.status();
+    if (!design.ok())  // linearised at the reference errors: too large ones are that file's fault
+      return options.reference ? kinematics::AtErrorsFile(design.status(), options.reference_path) : design.status();
     fit.design = std::move(*design);
     TPCAL_RETURN_IF_ERROR(FitPass(obs, base_coefficients, reference_dev_um, &fit));
     if (pass == 0 && !reference_mode && NeedsSecondPass(fit)) passes = 2;

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <set>
 #include <vector>
@@ -79,6 +81,23 @@ bool CloudInteger(std::string_view s, std::int64_t* out) {
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
+bool IsXyzName(std::string_view name) { return name == "x" || name == "y" || name == "z"; }
+
+// A coordinate token (already checked to be a number) that PCL reads as NaN or infinity in a
+// field of `bytes` bytes.
+bool NonFiniteCoordinate(std::string_view token, int bytes) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  double v = 0;
+  fast_float::from_chars(token.data(), token.data() + token.size(), v);
+  return !std::isfinite(v) || (bytes == 4 && std::abs(v) > std::numeric_limits<float>::max());
+}
+
+// Notes the first row with a non-finite coordinate.
+void NoteNonFinite(std::string_view token, int bytes, std::size_t line_no, CloudNotes* notes) {
+  if (notes && notes->first_nonfinite_xyz_line == 0 && NonFiniteCoordinate(token, bytes))
+    notes->first_nonfinite_xyz_line = line_no;
+}
+
 bool CloudReal(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   if (s.empty()) return false;
@@ -97,7 +116,7 @@ struct PcdField {
 };
 
 Status CheckPcdAscii(CloudLines lines, const std::vector<PcdField>& fields, std::uint64_t points,
-                     const std::string& path) {
+                     const std::string& path, CloudNotes* notes) {
   std::uint64_t values = 0;
   for (const PcdField& f : fields) values += f.count;
   std::uint64_t rows = 0;
@@ -121,6 +140,8 @@ Status CheckPcdAscii(CloudLines lines, const std::vector<PcdField>& fields, std:
         if (!ok)
           return error(fmt::format("field '{}': expected {}, got '{}'", EchoInput(f.name),
                                    f.type == 'F' ? "a number" : "an integer", EchoInput(tokens[t])));
+        if (f.type == 'F' && f.count == 1 && IsXyzName(f.name))
+          NoteNonFinite(tokens[t], static_cast<int>(f.size), lines.line_no(), notes);
       }
     }
     ++rows;
@@ -185,7 +206,7 @@ std::string_view PcdKeywordInData(std::string_view data) {
 
 }  // namespace
 
-Status CheckPcdBytes(std::string_view bytes, const std::string& path) {
+Status CheckPcdBytes(std::string_view bytes, const std::string& path, CloudNotes* notes) {
   CloudLines lines(bytes, 0);
   auto error = [&](std::string msg) {
     return Status(StatusCode::kParseError, std::move(msg), path, lines.line_no());
@@ -286,7 +307,7 @@ Status CheckPcdBytes(std::string_view bytes, const std::string& path) {
   if (const std::string_view k = PcdKeywordInData(bytes.substr(lines.pos())); !k.empty())
     return header_error(fmt::format("the data after DATA begins a line with '{}', which PCL would read as "
                                     "a header line; expected the data only", k));
-  if (data_kind == "ascii") return CheckPcdAscii(lines, fields, points, path);
+  if (data_kind == "ascii") return CheckPcdAscii(lines, fields, points, path, notes);
   const std::string_view data = bytes.substr(lines.pos());
   const std::uint64_t need = points * point_bytes;  // < 2^31 * 2^26: no overflow
   if (data_kind == "binary_compressed") {
@@ -436,7 +457,7 @@ bool PlyValue(std::string_view token, const PlyProperty& p) {
 }
 
 Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, const std::string& path,
-                     PlyGrid* grid) {
+                     PlyGrid* grid, CloudNotes* notes) {
   std::string_view line;
   for (const PlyElement& e : elements) {
     for (std::uint64_t i = 0; i < e.count; ++i) {
@@ -472,6 +493,7 @@ Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, 
             double v = 0;
             fast_float::from_chars(tok[t].data() + (tok[t].front() == '+'), tok[t].data() + tok[t].size(), v);
             PlyNoteCamera(e, p, v, grid);
+            if (p.real && e.name == "vertex" && IsXyzName(p.name)) NoteNonFinite(tok[t], p.size, lines.line_no(), notes);
           }
         }
       }
@@ -489,7 +511,7 @@ Status CheckPlyAscii(CloudLines lines, const std::vector<PlyElement>& elements, 
 
 }  // namespace
 
-Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
+Status CheckPlyBytes(std::string_view bytes, const std::string& path, CloudNotes* notes) {
   CloudLines lines(bytes, 0);
   auto error = [&](std::string msg) {
     return Status(StatusCode::kParseError, std::move(msg), path, lines.line_no());
@@ -589,7 +611,7 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path) {
     return Status(StatusCode::kParseError, "the vertex element declares no points", path, vertex->line);
   const std::size_t header_end_line = lines.line_no();
   TPCAL_RETURN_IF_ERROR(format == "ascii"
-                            ? CheckPlyAscii(lines, elements, path, &grid)
+                            ? CheckPlyAscii(lines, elements, path, &grid, notes)
                             : CheckPlyBinary(bytes.substr(lines.pos()), elements, format == "binary_big_endian", path,
                                              &grid));
   // PCL sizes the cloud width x height when obj_info num_cols/num_rows or the camera viewport

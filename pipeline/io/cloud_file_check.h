@@ -6,6 +6,7 @@
 // Accepted: what PCL and common scanners write (docs/formats/points.md, "PLY and PCD").
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -13,11 +14,19 @@
 
 namespace tpcal::pipeline::internal {
 
-// OK if `bytes`, the whole file `path`, is a PCD file tpcal hands to PCL; else kParseError at
-// the 1-based line at fault (a header line or an ASCII data row; 0 for binary data).
-Status CheckPcdBytes(std::string_view bytes, const std::string& path);
+// What the checks saw that the reader reports later (point errors after PCL has read the file).
+struct CloudNotes {
+  // ASCII data: the line of the first point row whose x, y or z is NaN or infinite (or beyond a
+  // 4-byte float's range in a float field); 0: none, or binary data.
+  std::size_t first_nonfinite_xyz_line = 0;
+};
 
-// Same for PLY.
-Status CheckPlyBytes(std::string_view bytes, const std::string& path);
+// OK if `bytes`, the whole file `path`, is a PCD file tpcal hands to PCL; else kParseError at
+// the 1-based line at fault (a header line or an ASCII data row; 0 for binary data). `notes`
+// (optional) receives CloudNotes.
+Status CheckPcdBytes(std::string_view bytes, const std::string& path, CloudNotes* notes = nullptr);
+
+// Same for PLY (the rows of element vertex).
+Status CheckPlyBytes(std::string_view bytes, const std::string& path, CloudNotes* notes = nullptr);
 
 }  // namespace tpcal::pipeline::internal

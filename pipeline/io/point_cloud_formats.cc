@@ -80,7 +80,8 @@ bool IsSkippedField(const std::string& name) {
 }
 
 Result<PointFile> FromCloud(const pcl::PCLPointCloud2& cloud, const std::string& path,
-                            PointFormat format, std::uint64_t bytes, const PointReadOptions& options) {
+                            PointFormat format, std::uint64_t bytes, const PointReadOptions& options,
+                            const internal::CloudNotes& notes) {
   auto error = [&](std::string msg) { return Status(StatusCode::kParseError, std::move(msg), path); };
   const pcl::PCLPointField* fx = FindField(cloud, "x");
   const pcl::PCLPointField* fy = FindField(cloud, "y");
@@ -131,7 +132,8 @@ Result<PointFile> FromCloud(const pcl::PCLPointCloud2& cloud, const std::string&
         if (options.skip_nonfinite_points) continue;
         return error(fmt::format("point {} (0-based) has a NaN or infinite coordinate; expected "
                                  "finite x,y,z (set skip_nonfinite_points to drop such points)",
-                                 index));
+                                 index))
+            .WithLocation(path, notes.first_nonfinite_xyz_line);  // its row, in ASCII data
       }
       if (std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])}) * scale > kCloudMaxAbsCoordinateMm)
         return error(fmt::format("point {} (0-based) is beyond {:g} mm from the origin; expected "
@@ -171,12 +173,13 @@ Result<PointFile> LoadWithPcl(const std::string& path, PointFormat format,
                               const PointReadOptions& options, LoadFn load) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
   std::uint64_t file_bytes = 0;
+  internal::CloudNotes notes;
   {
     Result<FileBytes> bytes = ReadFileBytes(path);
     if (!bytes.ok()) return bytes.status();
     file_bytes = bytes->size;
-    TPCAL_RETURN_IF_ERROR(format == PointFormat::kPly ? internal::CheckPlyBytes(bytes->view(), path)
-                                                      : internal::CheckPcdBytes(bytes->view(), path));
+    TPCAL_RETURN_IF_ERROR(format == PointFormat::kPly ? internal::CheckPlyBytes(bytes->view(), path, &notes)
+                                                      : internal::CheckPcdBytes(bytes->view(), path, &notes));
   }
   pcl::PCLPointCloud2 cloud;
   int rc = -1;
@@ -193,7 +196,7 @@ Result<PointFile> LoadWithPcl(const std::string& path, PointFormat format,
                   fmt::format("PCL could not read the file as {} (damaged or not a {} file)",
                               PointFormatName(format), PointFormatName(format)),
                   path);
-  return FromCloud(cloud, path, format, file_bytes, options);
+  return FromCloud(cloud, path, format, file_bytes, options, notes);
 }
 
 // PCL's PLY writer declares fields named normal_x/y/z as `float nx/ny/nz` whatever their type

@@ -123,6 +123,7 @@ TEST_F(PointCloudFormatsTest, PcdNonFinitePoints) {
   Result<PointFile> r = ReadPointPcd(CloudDataPath("scan.pcd"));
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().file(), CloudDataPath("scan.pcd"));
+  EXPECT_EQ(r.status().line(), 14u);  // its own row
   EXPECT_EQ(r.status().message(),
             "point 2 (0-based) has a NaN or infinite coordinate; expected finite x,y,z (set "
             "skip_nonfinite_points to drop such points)");
@@ -134,6 +135,24 @@ TEST_F(PointCloudFormatsTest, PcdNonFinitePoints) {
   EXPECT_EQ(r->points.normal[1], Eigen::Vector3d(0, 1, 0));
   ASSERT_NE(r->points.Attribute("curvature"), nullptr);
   EXPECT_EQ(r->points.Attribute("curvature")->values, (std::vector<double>{0.5, 0.25}));
+}
+
+TEST_F(PointCloudFormatsTest, ANonFinitePointOfAsciiDataCitesItsOwnRow) {
+  const std::string ply = Path("nan.ply");
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                        "property float z\nend_header\n1 2 3\n4 5 6\n7 nan 9\n1 1 1\n";
+  Result<PointFile> r = ReadPointPly(ply);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().ToString(), ply + ":10: point 2 (0-based) has a NaN or infinite coordinate; expected finite "
+                                         "x,y,z (set skip_nonfinite_points to drop such points)");
+  // A float field beyond the float range is infinite once read; blank lines are no rows.
+  const std::string pcd = Path("overflow.pcd");
+  std::ofstream(pcd) << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+                        "POINTS 3\nDATA ascii\n1 2 3\n\n4 5 1e39\n7 8 9\n";
+  r = ReadPointPcd(pcd);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().file(), pcd);
+  EXPECT_EQ(r.status().line(), 12u) << r.status().ToString();
 }
 
 TEST_F(PointCloudFormatsTest, DamagedPlyIsAParseError) {

@@ -3,7 +3,7 @@
 # inputs made here (a FIFO, a 1 GB line, 10^7 columns), must make tpcal exit 2 within 30 s with
 # exactly the expected `file:line: what was expected` on stderr, and write nothing.
 # tests/data/bad/cases.tsv: FILE <tab> ARGS <tab> EXPECTED STDERR, where @F is the bad file,
-# @O an output path that must not appear, @S the source tree.
+# @O an output path that must not appear, @S the source tree; FILE `-`: an option is at fault.
 # Usage: bad_corpus_test.sh TPCAL SOURCE_DIR WORK_DIR
 set -eu
 TPCAL=$1; SRC=$2; WORK=$3
@@ -38,6 +38,11 @@ check() {
 tab=$(printf '\t')
 while IFS="$tab" read -r name args expected; do
   case $name in ''|'#'*) continue ;; esac
+  if [ "$name" = - ]; then
+    # shellcheck disable=SC2086
+    check - "$expected" $args
+    continue
+  fi
   test -e "$BAD/$name" || { echo "FAIL: $name is in cases.tsv but not in tests/data/bad" >&2; failures=$((failures + 1)); continue; }
   # shellcheck disable=SC2086
   check "$BAD/$name" "$expected" $args
