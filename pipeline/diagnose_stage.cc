@@ -44,7 +44,8 @@ std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, boo
           {"reference", r.reference_path},
           {"reference_kind", r.reference_path.empty() ? "" : (reference_points ? "points" : "machine errors")},
           {"noise_um", fmt::format("{}", r.noise_um)},
-          {"alpha", fmt::format("{}", r.alpha)}};
+          {"alpha", fmt::format("{}", r.alpha)},
+          {"keep_outliers", r.keep_outliers ? "true" : "false"}};
 }
 
 }  // namespace
@@ -62,6 +63,7 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   DiagnosisOptions options;
   options.noise_um = r.noise_um;
   options.alpha = r.alpha;
+  options.screen_outliers = !r.keep_outliers;
   std::optional<PointSet> reference_points;
   if (!r.reference_path.empty()) {
     if (Status s = LoadDiagnosisReference(r.reference_path, setup.machine, &options, &reference_points); !s.ok())

@@ -27,6 +27,7 @@ struct DiagnoseRequest {
   std::string reference_path{};
   double noise_um = 0.0;              // known CMM noise sigma; 0 = estimated
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
+  bool keep_outliers = false;         // true: flagged points stay in (DiagnosisOptions::screen_outliers)
   RawScanLabelingOptions labelling{};  // the labelling of a raw scan
   std::function<void(const std::string& line)> info{};  // progress lines; may be empty
 };
@@ -35,7 +36,7 @@ struct DiagnoseStageResult {
   DiagnosisResult diagnosis;
   // The "inputs" of the diagnosis JSON: points, testpiece (the configuration file if given),
   // machine ("nominal" if none), reference, reference_kind ("points", "machine errors" or ""),
-  // noise_um, alpha.
+  // noise_um, alpha, keep_outliers ("true" or "false").
   std::map<std::string, std::string> inputs;
 };
 

@@ -95,6 +95,7 @@ Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOv
   if (!o.parameters.empty()) c.parameters = o.parameters;
   if (o.seed) c.seed = *o.seed;
   if (o.monte_carlo_trials) c.monte_carlo_trials = *o.monte_carlo_trials;
+  if (o.keep_outliers) c.keep_outliers = true;
   if (!o.out.empty()) c.out = o.out;
   if (!o.anchor_feature.empty()) {
     c.anchor_feature = o.anchor_feature;
@@ -148,6 +149,10 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
       auto b = As<bool>(source, v, key, "true or false");
       if (!b.ok()) return b.status();
       c.diagnose = *b;
+    } else if (key == "keep_outliers") {
+      auto b = As<bool>(source, v, key, "true or false");
+      if (!b.ok()) return b.status();
+      c.keep_outliers = *b;
     } else if (key == "uncertainty") {
       if (!v.IsMap()) return ParseErrorAt(source, v, "'uncertainty': expected a map");
       for (const auto& u : v) {
@@ -230,7 +235,7 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
       return ParseErrorAt(source, kv.first,
                           "unknown key '" + EchoInput(key) +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
-                              "diagnose, truth, raw_scan, scan_cells, report, out)");
+                              "diagnose, keep_outliers, truth, raw_scan, scan_cells, report, out)");
     }
   }
   return c;
@@ -274,6 +279,7 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   e << YAML::Key << "monte_carlo_trials" << YAML::Value << c.monte_carlo_trials;
   e << YAML::EndMap;
   e << YAML::Key << "diagnose" << YAML::Value << c.diagnose;
+  e << YAML::Key << "keep_outliers" << YAML::Value << c.keep_outliers;
   e << YAML::Key << "truth" << YAML::Value << c.truth;
   e << YAML::Key << "raw_scan" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "anchor_feature" << YAML::Value << c.anchor_feature;

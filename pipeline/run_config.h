@@ -45,6 +45,9 @@ struct PipelineConfig {
   bool jackknife_groups = true;
   int monte_carlo_trials = 2000;
   bool diagnose = true;
+  // false: probe hits and patches the outlier screen flags are left out of identification and
+  // diagnosis (listed with the reason); true keeps them (still listed). YAML keep_outliers.
+  bool keep_outliers = false;
   std::string truth;        // "" = none
   // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
   // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
@@ -74,6 +77,7 @@ struct PipelineOverrides {
   std::vector<std::string> parameters{};
   std::optional<std::uint64_t> seed{};
   std::optional<int> monte_carlo_trials{};
+  bool keep_outliers = false;  // --keep-outliers: true sets keep_outliers, false leaves the file's
   std::string out{};
   std::string anchor_feature{};  // non-empty: replaces raw_scan's anchor_feature and anchor_near_mm
   std::optional<Eigen::Vector3d> anchor_near_mm{};

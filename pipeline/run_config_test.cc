@@ -47,5 +47,23 @@ TEST(PipelineOverrides, BatchNeedsNoPointsButEveryRunAnOutputDirectory) {
   EXPECT_EQ(no_out.status().ToString(), "no output directory: give --out DIR (or 'out' in the pipeline file)");
 }
 
+TEST(PipelineOverrides, KeepOutliersFromTheFileOrTheFlagAndWrittenBack) {
+  auto file = ParsePipelineConfig("points: a.csv\nout: o\nkeep_outliers: true\n", "/d/p.yaml");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  EXPECT_TRUE(file->keep_outliers);
+  EXPECT_NE(FormatPipelineConfig(*file).find("keep_outliers: true"), std::string::npos);
+  auto plain = ParsePipelineConfig("points: a.csv\nout: o\n", "/d/p.yaml");
+  ASSERT_TRUE(plain.ok());
+  EXPECT_FALSE(plain->keep_outliers);
+  PipelineOverrides o;
+  o.keep_outliers = true;
+  auto c = ApplyPipelineOverrides(*plain, o, false);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_TRUE(c->keep_outliers);
+  auto bad = ParsePipelineConfig("points: a.csv\nkeep_outliers: maybe\n", "/d/p.yaml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().ToString().find("/d/p.yaml:2"), std::string::npos) << bad.status().ToString();
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

@@ -71,6 +71,8 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
   sub->add_option("--noise-um", r->noise_um, "known CMM noise sigma (um) for 'beyond noise'; 0 = estimated")
       ->capture_default_str();
   sub->add_option("--alpha", r->alpha, "family-wise false-alarm probability of the verdict")->capture_default_str();
+  sub->add_flag("--keep-outliers", r->keep_outliers,
+               "keep the probe hits and patches the outlier screen flags (still listed); default: left out");
   sub->add_option("--json", args->json, "write the tpcal.diagnosis/1 JSON here ('-' for stdout)");
   sub->add_option("--html", args->html, "write a readable HTML report here");
   return testpiece;

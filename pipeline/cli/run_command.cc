@@ -88,6 +88,9 @@ Command RegisterRun(CLI::App& app) {
       ->delimiter(',');
   sub->add_option("--seed", args->overrides.seed, "Monte Carlo seed (default 1), written to every output");
   sub->add_option("--mc-trials", args->overrides.monte_carlo_trials, "GUM S1 Monte Carlo trials (default 2000; 0 = off)");
+  sub->add_flag("--keep-outliers", args->overrides.keep_outliers,
+               "keep the probe hits and patches the outlier screen flags in identification and diagnosis "
+               "(they are still listed); default: left out, with the reason");
   sub->add_option("--batch", args->batch, "directory or glob of point files: run each, in parallel");
   sub->add_option("-j,--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
   sub->add_flag("-q,--quiet", args->quiet, "no progress lines");
