@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <optional>
 #include <utility>
 
 #include "pipeline/axis_profiles.h"
+#include "pipeline/identified_gap.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/seed002_items.h"
 
@@ -29,9 +31,14 @@ void AddClosedForm(const testpieces::TestPiece& piece, const gdt::InspectionResu
 Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
                                                        const kinematics::MachineModel& machine,
                                                        const PointSet& measured,
-                                                       const IdentifyStageOptions& options) {
+                                                       const IdentifyStageOptions& options, bool gap_check) {
   auto stage = RunIdentifyStage(piece, machine, measured, options);
   if (!stage.ok()) return stage.status();
+  std::optional<GapCheck> check;
+  if (gap_check) {
+    auto d = DiagnoseIdentified(piece, machine, *stage, measured, options.screen_outliers);
+    if (d.ok()) check = GapCheckOf(*d);
+  }
   auto motions = CAxisErrorMotions(piece, *stage);
   if (!motions.ok()) return motions.status();
   auto straight = LinearAxisStraightness(piece, *stage);
@@ -43,6 +50,7 @@ Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPie
   r.outliers = stage->outliers;
   r.local_defects = stage->local_defects;
   r.neighbour_sigma_um = stage->neighbour_sigma_um;
+  r.gap_check = std::move(check);
   AddClosedForm(piece, stage->inspection, &r);
   r.error_motion = std::move(*motions);
   r.straightness = std::move(*straight);
@@ -61,10 +69,15 @@ Result<IdentificationReport> IdentifyPointFile(const IdentifyRequest& request) {
   if (points->raw_scan) info("raw scan labelled: " + points->raw_scan->BriefReport());
   IdentifyStageOptions options;
   options.parameters = request.parameters;
+  options.screen_outliers = !request.keep_outliers;
   options.identify = IdentifyOptionsFor(request.uncertainty, request.mc_trials, request.subset_trials, request.seed);
   info(fmt::format("tpcal identify: {} points of the {} from {}", points->points.size(), setup->piece.name,
                    request.points_path));
-  return BuildIdentificationReport(setup->piece, setup->machine, points->points, options);
+  auto report = BuildIdentificationReport(setup->piece, setup->machine, points->points, options, request.gap_check);
+  if (!report.ok()) return report.status();
+  if (request.gap_check && !report->gap_check) info("gap check: the diagnosis could not be run on these points");
+  if (report->gap_check && !report->gap_check->warning.empty()) info("WARNING: " + report->gap_check->warning);
+  return report;
 }
 
 }  // namespace tpcal::pipeline

@@ -20,11 +20,14 @@
 
 namespace tpcal::pipeline {
 
-// Errors: the stage's, then those of the error motions and the straightness profiles.
+// gap_check: also the diagnosis of the same data against the identified model (identified_gap.h;
+// a diagnosis that fails leaves report.gap_check unset). Errors: the stage's, then those of the
+// error motions and the straightness profiles.
 Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPiece& piece,
                                                        const kinematics::MachineModel& machine,
                                                        const PointSet& measured,
-                                                       const IdentifyStageOptions& options);
+                                                       const IdentifyStageOptions& options,
+                                                       bool gap_check = false);
 
 struct IdentifyRequest {
   std::string points_path{};
@@ -37,11 +40,15 @@ struct IdentifyRequest {
   int mc_trials = 2000;
   int subset_trials = 0;                // seed 002's random 3-point subsets per feature (0 = off)
   std::uint64_t seed = 1;               // Monte Carlo and random-subset seed
+  bool keep_outliers = false;           // true: flagged points stay in (IdentifyStageOptions::screen_outliers)
+  bool gap_check = true;                // diagnose the gap against the identified model (identified_gap.h)
   std::function<void(const std::string& line)> info{};  // progress lines; may be empty
 };
 
 // The piece (LoadPiece, its errors prefixed "test piece NAME: "), the point file read and, if it
-// is a raw scan, labelled; then BuildIdentificationReport. Errors: those, in this order.
+// is a raw scan, labelled; then BuildIdentificationReport, and with gap_check the diagnosis of the
+// same data (report.gap_check; a verdict other than none is also sent to info as a warning).
+// Errors: those, in this order (a diagnosis that fails leaves gap_check unset, said to info).
 Result<IdentificationReport> IdentifyPointFile(const IdentifyRequest& request);
 
 }  // namespace tpcal::pipeline

@@ -6,6 +6,7 @@
 
 #include "kinematics/error_state.h"
 #include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/identified_gap.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
@@ -94,6 +95,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   stage_options.identify.monte_carlo_trials = config.monte_carlo_trials;
   stage_options.identify.seed = config.seed;
   stage_options.scan_cells = config.scan_cells;
+  stage_options.screen_outliers = !config.keep_outliers;
   stage_options.on_step = [&clock](const char* step) { clock.Start(step); };
   auto stage = RunIdentifyStage(setup->piece, setup->machine, file->points, stage_options);
   if (!stage.ok()) return stage.status();
@@ -102,16 +104,10 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   Status diagnosis_status;
   if (config.diagnose) {
     clock.Start("diagnose");
-    DiagnosisOptions d_options;
-    d_options.base_parameters = parameters;
-    d_options.nominal_slot_design = stage->nominal_slot_design;
-    d_options.prior_outliers = stage->outliers;
-    d_options.prior_local_defects = stage->local_defects;
-    auto d = DiagnoseObservations(setup->piece, setup->machine, stage->observations, d_options);
-    if (d.ok()) {
+    auto d = DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, !config.keep_outliers);
+    if (d.ok())
       diagnosis = std::move(*d);
-      AttachScreenLines(file->points, &diagnosis->outliers, &diagnosis->local_defects);
-    } else
+    else
       diagnosis_status = d.status();
   }
 

@@ -19,6 +19,7 @@ struct IdentifyArgs {
   pipeline::IdentifyRequest request;
   std::string anchor;  // FEATURE@X,Y,Z: the symmetric labelling of a raw scan
   std::string json;
+  bool no_gap_check = false;
 };
 
 int RunIdentify(const IdentifyArgs& args) {
@@ -26,6 +27,7 @@ int RunIdentify(const IdentifyArgs& args) {
   if (!labelling.ok()) return ReportError(labelling.status());
   pipeline::IdentifyRequest request = args.request;
   request.labelling = *labelling;
+  request.gap_check = !args.no_gap_check;
   request.info = Info;
   auto report = pipeline::IdentifyPointFile(request);
   if (!report.ok()) return ReportError(report.status());
@@ -66,6 +68,11 @@ Command RegisterIdentify(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
   sub->add_option("--seed", args->request.seed, "Monte Carlo and random-subset seed")->capture_default_str();
+  sub->add_flag("--keep-outliers", args->request.keep_outliers,
+               "keep the probe hits and patches the outlier screen flags (still listed); default: left out");
+  sub->add_flag("--no-gap-check", args->no_gap_check,
+               "skip the diagnosis of the gap against the identified model (by default a verdict other than "
+               "'none' is reported as a warning: the errors may be biased by an effect the model does not hold)");
   sub->add_option("--json", args->json, "write JSON (schema tpcal.identification/1) to this file; '-' for stdout");
   return {sub, [args] { return RunIdentify(*args); }};
 }

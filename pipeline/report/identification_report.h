@@ -11,6 +11,7 @@
 
 #include "kinematics/identification.h"
 #include "kinematics/seed002_closed_form.h"
+#include "pipeline/diagnosis/gap_check.h"
 #include "pipeline/diagnosis/outlier_screen.h"
 
 namespace tpcal::pipeline {
@@ -49,6 +50,8 @@ struct IdentificationReport {
   std::vector<ScreenedPoint> outliers;
   std::vector<LocalDefect> local_defects;
   double neighbour_sigma_um = 0.0;
+  // The gap diagnosis of the same data (pipeline/diagnosis/gap_check.h); unset when not run.
+  std::optional<GapCheck> gap_check;
 };
 
 }  // namespace tpcal::pipeline

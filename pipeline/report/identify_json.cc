@@ -31,6 +31,11 @@ std::string IdentificationJson(const IdentificationReport& report) {
   j["outliers"] = OutliersJson(report.outliers);
   j["local_defects"] = LocalDefectsJson(report.local_defects);
   j["neighbour_sigma_um"] = report.neighbour_sigma_um;
+  if (report.gap_check) {
+    const GapCheck& g = *report.gap_check;
+    j["gap_check"] = {{"verdict", g.family},       {"families", g.families}, {"name", g.name},
+                      {"cv_shrink_pct", g.cv_shrink_pct}, {"warning", g.warning}};
+  }
 
   if (report.closed_form) {
     const auto& cf = *report.closed_form;

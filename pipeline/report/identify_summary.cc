@@ -50,6 +50,9 @@ std::string IdentificationSummary(const IdentificationReport& r) {
     out += fmt::format("straightness {} from {}: {} um (LS P-V), {} um (minimum zone)\n", s.name, s.feature,
                        FixedDigits(s.pv_ls_um), FixedDigits(s.mz_um));
   out += ScreenText(r.outliers, r.local_defects, r.neighbour_sigma_um);
+  if (r.gap_check)
+    out += r.gap_check->warning.empty() ? "gap check: nothing beyond measurement noise\n"
+                                        : "WARNING: " + r.gap_check->warning + "\n";
   return out;
 }
 

@@ -1,0 +1,21 @@
+// The gap diagnosis of an identification (pipeline/diagnosis/diagnosis.h) against the model it
+// identified: the same observations, base parameters and nominal slot design, the stage's outlier
+// screen carried over as prior. Shared by `tpcal run` and the gap check of `tpcal identify`.
+#pragma once
+
+#include "core/point_set.h"
+#include "core/status.h"
+#include "kinematics/machine_model.h"
+#include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/identify_stage.h"
+#include "testpieces/test_piece.h"
+
+namespace tpcal::pipeline {
+
+// `measured` is the point file the stage read (flagged points get its file lines);
+// screen_outliers as the stage's. Errors: those of DiagnoseObservations.
+Result<DiagnosisResult> DiagnoseIdentified(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                           const IdentifyStageResult& stage, const PointSet& measured,
+                                           bool screen_outliers);
+
+}  // namespace tpcal::pipeline
