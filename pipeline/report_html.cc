@@ -7,6 +7,7 @@
 #include "core/units.h"
 #include "core/xml_escape.h"
 #include "pipeline/run_config.h"
+#include "pipeline/report/diagnosis_html_blocks.h"
 #include "pipeline/report/svg_writer.h"
 #include "pipeline/version.h"
 
@@ -176,6 +177,7 @@ std::string DiagnosisSection(const RunResult& r) {
                      E(d.pair->names.back()), E(d.pair->why), F(d.pair->shrink_pct, 1), F(d.pair->cv_shrink_pct, 1),
                      E(d.pair->cv_method));
   h += "</p>\n";
+  h += VerdictFamiliesHtml(v) + BaseShiftHtml(d) + ScreenHtml(d);
   h += fmt::format(
       "<p class=\"meta\">Base model: {} ({} columns). Gap: RMS {} um, largest {} um over {} points; noise sigma {} "
       "um; linear drift with machining time {} +- {} um/h.</p>\n",

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/xml_escape.h"
+#include "pipeline/report/diagnosis_html_blocks.h"
 #include "pipeline/report/json_util.h"
 #include "pipeline/report/screen_json.h"
 
@@ -246,6 +247,7 @@ std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + XmlEscape(f);
     o += "</p>\n";
   }
+  o += VerdictFamiliesHtml(r.verdict) + BaseShiftHtml(r) + ScreenHtml(r);
   o += "<h2>Gap</h2><pre>" + XmlEscape(DiagnosisText(r)) + "</pre>\n";
   o += "<h2>Gap by feature</h2><table><tr><th>feature</th><th>n</th><th>rms um</th><th>max um</th><th>mean um</th><th>z</th></tr>\n";
   for (const auto& g : r.by_feature)

@@ -1,0 +1,64 @@
+// The diagnosis's HTML blocks on hand-made results: what shows, what is escaped, what stays out.
+#include "pipeline/report/diagnosis_html_blocks.h"
+
+#include <gtest/gtest.h>
+
+namespace tpcal::pipeline {
+namespace {
+
+DiagnosisResult Straightness() {
+  DiagnosisResult d;
+  d.verdict.family = "straightness";
+  d.verdict.name = "straightness of X in Y (quadratic)";
+  d.verdict.families = {"straightness", "local_defect"};
+  CandidateResult c;
+  c.family = "straightness";
+  c.name = d.verdict.name;
+  c.base_shift = {{.name = "E_C(0X)Y", .unit = "urad", .without_um = -44.0, .with_um = -13.2, .u_without = 2.6,
+                   .u_with = 2.8}};
+  d.candidates = {c};
+  return d;
+}
+
+TEST(DiagnosisHtmlBlocks, BaseShiftShowsBothValuesAndBothUncertainties) {
+  const std::string h = BaseShiftHtml(Straightness());
+  EXPECT_NE(h.find("id=\"base-shift-table\""), std::string::npos);
+  EXPECT_NE(h.find("<td>-44.000</td><td>2.600</td><td>-13.200</td><td>2.800</td><td>11.0</td>"), std::string::npos) << h;
+  DiagnosisResult none;
+  EXPECT_EQ(BaseShiftHtml(none), "");
+  DiagnosisResult unexplained = Straightness();
+  unexplained.verdict.family = "unexplained";
+  EXPECT_EQ(BaseShiftHtml(unexplained), "");  // no effect named: nothing was re-identified
+}
+
+TEST(DiagnosisHtmlBlocks, FamiliesAndPartialCandidatesAreNamedAndEscaped) {
+  Verdict v = Straightness().verdict;
+  EXPECT_NE(VerdictFamiliesHtml(v).find("straightness + local_defect"), std::string::npos);
+  Verdict one;
+  one.families = {"thermal_drift"};
+  EXPECT_EQ(VerdictFamiliesHtml(one), "");
+  Verdict u;
+  u.family = "unexplained";
+  u.partial = {"harmonic <7>"};
+  EXPECT_NE(VerdictFamiliesHtml(u).find("harmonic &lt;7&gt;"), std::string::npos);
+}
+
+TEST(DiagnosisHtmlBlocks, ScreenListsPatchesAndPointsWithTheirLines) {
+  DiagnosisResult d;
+  EXPECT_EQ(ScreenHtml(d), "");
+  d.neighbour_sigma_um = 0.5;
+  d.local_defects = {{.feature = "S2", .n_points = 2, .peak_um = 4.1, .mean_um = 3.9, .extent_mm = 1.5,
+                      .point_index = {10, 11}, .lines = {12, 13}}};
+  d.outliers = {{.point_index = 40, .line = 42, .feature = "H1", .kind = "outlier", .deviation_um = -21.0,
+                 .reason = "18 sigma from the model and its neighbours"}};
+  const std::string h = ScreenHtml(d);
+  EXPECT_NE(h.find("left out of identification and diagnosis"), std::string::npos);
+  EXPECT_NE(h.find("<td class=\"t\">12 13</td>"), std::string::npos) << h;
+  EXPECT_NE(h.find("<td>-21.00</td>"), std::string::npos);
+  EXPECT_NE(h.find("<td class=\"t\">42</td>"), std::string::npos);
+  d.outliers[0].left_out = false;
+  EXPECT_NE(ScreenHtml(d).find("kept in (--keep-outliers)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
