@@ -181,5 +181,19 @@ TEST(OutlierScreen, CleanPiecesAreNone) {
   EXPECT_GE(none, 9);
 }
 
+// Noise-free data (a simulation without CMM noise) with a known noise of 1 um: the neighbour sigma
+// is rounding (1e-6 um), so without a floor every rounding residual was an outlier and the pooled
+// harmonic F-test of rounding residuals "stood out" at p = 3e-142. Truth: nothing is wrong.
+TEST(OutlierScreen, NoiseFreeDataIsNotScreenedAndIsNone) {
+  std::mt19937_64 rng(7);
+  auto sim = Simulate(RandomTable2(rng), 0.0, 8, false);
+  DiagnosisOptions options;
+  options.noise_um = 1.0;
+  auto d = Diagnose(Turning(), AcTable(), sim.points, options);
+  ASSERT_TRUE(d.ok()) << d.status().ToString();
+  EXPECT_TRUE(d->outliers.empty()) << d->outliers.size() << " flagged, first " << d->outliers.front().reason;
+  EXPECT_EQ(d->verdict.family, "none") << d->verdict.name;
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

@@ -141,6 +141,12 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
   if (b.rank > 0 && dof1 > 0 && ssr1 > 0) {
     cr.f_stat = ((gap.ssr - ssr1) / b.rank) / (ssr1 / dof1);
     cr.p_value = FUpperTail(cr.f_stat, b.rank, dof1);
+    // With a known CMM noise the reduction must also stand out against it (chi-square with rank
+    // degrees of freedom): on noise-free data the F ratio of rounding and linearisation residuals
+    // is significant for any candidate.
+    if (options.noise_um > 0)
+      cr.p_value = std::max(cr.p_value, FUpperTail(((gap.ssr - ssr1) / b.rank) / (options.noise_um * options.noise_um),
+                                                   b.rank, 1e12));
     cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / gap.ssr) + b.rank * std::log(static_cast<double>(n));
   }
   const Eigen::VectorXd coef = EffectParameters(cc, b, r0, ssr1, dof1, &cr);

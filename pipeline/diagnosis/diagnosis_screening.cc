@@ -1,5 +1,6 @@
 #include "pipeline/diagnosis/diagnosis_screening.h"
 
+#include <algorithm>
 #include <memory>
 #include <utility>
 
@@ -12,12 +13,14 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
                             const Eigen::MatrixXd* effect) {
   ScreenedInput in;
   in.options_given = &options;
+  OutlierScreenOptions screen = options.screen;
+  screen.min_sigma_um = std::max(screen.min_sigma_um, options.noise_um);
   if (effect) {
     Eigen::MatrixXd X(fit.basis.U.rows(), fit.basis.U.cols() + effect->cols());
     X << fit.basis.U, *effect;
-    in.screen = ScreenOutliers(X, fit.y, mo.observations, options.screen);
+    in.screen = ScreenOutliers(X, fit.y, mo.observations, screen);
   } else {
-    in.screen = ScreenOutliers(fit.basis.U, fit.y, mo.observations, options.screen);
+    in.screen = ScreenOutliers(fit.basis.U, fit.y, mo.observations, screen);
   }
   in.left_out = options.screen_outliers && in.screen.CountFlagged() > 0;
   if (!in.left_out) return in;

@@ -42,7 +42,8 @@ Eigen::VectorXd TrimmedResiduals(const Eigen::MatrixXd& X, const Eigen::VectorXd
 }
 
 // d_i = r_i - median of its neighbours' r; sigma from the MAD of d_i / sqrt(1 + v_k).
-void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& nb, OutlierScreen* s) {
+void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& nb, double min_sigma_um,
+                         OutlierScreen* s) {
   s->neighbour_dev_um = Eigen::VectorXd::Zero(r.size());
   std::vector<double> scaled;
   for (Eigen::Index i = 0; i < r.size(); ++i) {
@@ -54,7 +55,7 @@ void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector
     scaled.push_back(std::abs(s->neighbour_dev_um(i)) / std::sqrt(1.0 + MedianVariance(list.size())));
   }
   s->sigma_dof = 0.37 * static_cast<double>(scaled.size());
-  s->sigma_um = scaled.size() >= 10 ? 1.4826 * Median(scaled) : 0.0;
+  s->sigma_um = scaled.size() >= 10 ? std::max(min_sigma_um, 1.4826 * Median(scaled)) : 0.0;
 }
 
 // Connected components (same sign as their seed, through the symmetric neighbour graph) of the
@@ -177,6 +178,7 @@ bool FinalFlags(const ScreenContext& c, const std::vector<bool>& flagged, Outlie
 Status OutlierScreenOptions::Validate() const {
   if (!(seed_z > 0 && grow_z > 0 && grow_z <= seed_z))
     return {StatusCode::kInvalidArgument, "outlier screen: need 0 < grow_z <= seed_z"};
+  if (!(min_sigma_um >= 0)) return {StatusCode::kInvalidArgument, "outlier screen: need min_sigma_um >= 0"};
   if (neighbours < 1 || max_patch_points < 2) return {StatusCode::kInvalidArgument, "outlier screen: need neighbours >= 1 and max_patch_points >= 2"};
   if (!(max_patch_share > 0 && max_patch_share <= 1 && max_components_share >= 0))
     return {StatusCode::kInvalidArgument, "outlier screen: need 0 < max_patch_share <= 1 and max_components_share >= 0"};
@@ -212,7 +214,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
     std::vector<bool> keep(flagged.size());
     for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
     s.residual_um = TrimmedResiduals(X, y, keep);
-    NeighbourDeviations(s.residual_um, c.nb, &s);
+    NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
     if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
     const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
     if (faults.empty()) break;
@@ -228,7 +230,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
     std::vector<bool> keep(flagged.size());
     for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
     s.residual_um = TrimmedResiduals(X, y, keep);
-    NeighbourDeviations(s.residual_um, c.nb, &s);
+    NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
   }
   return s;
 }

@@ -42,6 +42,9 @@ struct OutlierScreenOptions {
   int max_patch_points = 12;        // a larger component is systematic
   double max_patch_share = 0.25;    // of its feature's points
   double max_components_share = 0.05;  // flagged components per feature point (at least 2 allowed)
+  // Floor of sigma: 10 nm, below any CMM's probing noise, so that the rounding of noise-free
+  // (simulated) data is not screened; the diagnosis raises it to a known noise_um.
+  double min_sigma_um = 0.01;
   Status Validate() const;
 };
 
