@@ -638,6 +638,8 @@ TEST(Diagnosis, WeaklyObservableFamiliesAreNamed) {
 TEST(Diagnosis, SmallValidationMeetsTargets) {
   const Fixture f = Make();
   ValidationOptions v;
+  v.families = {"thermal_drift",   "linear_straightness", "linear_positioning", "rotary_error_motion",
+                "rotary_positioning", "tool_deflection",  "servo_reversal",     "probe_radius", "none"};
   v.magnitudes = {5.0, 10.0};
   v.noise_um = {1.0};
   v.trials = 2;
@@ -654,6 +656,34 @@ TEST(Diagnosis, SmallValidationMeetsTargets) {
   EXPECT_GE(static_cast<double>(correct) / counted, 0.9) << ValidationMarkdown(*s);
   EXPECT_LE(s->false_alarm_rate, 0.05);
   EXPECT_GE(s->median_cv_explained, 0.7);
+}
+
+// Real data (issue 18) on the turning piece: outliers, local defects, pairs and effects outside
+// the catalogue (validation_injections.h), 5x and 10x noise, noise 0.5 and 1 um, 6 trials each,
+// seed 2026. Measured at this seed: 36 of 36 outliers found at 10x, 0 clean points flagged;
+// local_defect named in 20 of 24 (75 % at 5x, 92 % at 10x: a 2-hit burr tapering to 0.7 of its
+// peak has its second hit at 3.5 sigma); fixture_bend, spindle_growth and lobes7 never none (72 of
+// 72); pairs both named 14 of 24; 1 false alarm in 24 effect-free pieces. Bounds: the measured
+// rates less about two binomial standard deviations of 24 trials (sd 8 % at 85 %), the issue's
+// targets where the measurement meets them (outliers, false flags, out-of-catalogue); local_defect
+// and pairs are below the issue's 90 % and 80 % (README, "Real data") and guarded where they are.
+TEST(Diagnosis, RealDataValidationMeetsTargets) {
+  const Fixture f = Make();
+  ValidationOptions v;
+  v.families = {"outliers", "local_defect", "pairs", "fixture_bend", "spindle_growth", "lobes7", "none"};
+  v.magnitudes = {5.0, 10.0};
+  v.noise_um = {0.5, 1.0};
+  v.trials = 6;
+  v.seed = 2026;
+  auto s = RunValidation(f.piece, f.machine, v);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  const std::string md = ValidationMarkdown(*s);
+  EXPECT_GE(s->outliers_found_rate, 0.95) << md;
+  EXPECT_LE(s->false_flag_rate, 0.01) << md;
+  EXPECT_LE(s->false_alarm_rate, 0.1) << md;
+  EXPECT_GE(s->top1_rate["local_defect"], 0.7) << md;
+  for (const char* ooc : {"fixture_bend", "spindle_growth", "lobes7"}) EXPECT_GE(s->top1_rate[ooc], 0.9) << ooc << md;
+  EXPECT_GE(s->top1_rate["pairs"], 0.45) << md;
 }
 
 }  // namespace

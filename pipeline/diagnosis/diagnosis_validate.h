@@ -16,7 +16,14 @@
 //   servo_reversal       process_effects.h quadrant glitches (random heights, decay 2 to 8 deg),
 //                        lost motion in half the trials;
 //   probe_radius         the virtual CMM's probe-radius error (random sign);
+//   outliers, local_defect, fixture_bend, spindle_growth: point offsets (validation_injections.h);
+//   lobes7               a 7-lobe radial error motion of C (the catalogue has orders 2 to 5);
+//   pairs                two different catalogue families at once, each scaled to the magnitude;
 //   none                 no effect.
+// A verdict is right (top-1) when it is the withheld family; for outliers when it is none (the
+// screen leaves them out); for pairs when verdict.families holds both; for fixture_bend,
+// spindle_growth and lobes7, which no candidate models, when it is unexplained or a catalogue
+// family (not none, not local_defect).
 // Every trial draws random base errors (the machine's ISO 230-1 location and squareness errors,
 // kinematics::IsoLocationSet, +-20 um / urad, whatever parameters the diagnosis's base model
 // uses; M2 also its straightness base terms), a random placement of the part on the CMM and Gaussian CMM noise. The effect is scaled so that its
@@ -74,6 +81,10 @@ struct ValidationTrial {
   double cv_explained = 0.0;
   double press_explained = 0.0;   // the same with the leave-one-point-out figures, for every verdict
   std::string cv_method;          // the verdict's (empty for none)
+  std::vector<std::string> verdict_families;  // verdict.families
+  std::vector<std::string> pair_families;     // pairs: the two withheld families
+  // The outlier screen against the injected points (outliers, local_defect; 0 otherwise).
+  int injected_points = 0, found_points = 0, false_flags = 0, clean_points = 0;
   double seconds = 0.0;           // diagnosis time
 };
 
@@ -91,6 +102,9 @@ struct ValidationSummary {
   std::map<std::string, int> verdict_cv_method;        // correct verdicts (>= 5x, observable) per cv_method
   double median_diagnosis_s = 0.0;
   int simulation_failures = 0;                         // trials the simulator could not produce (not scored)
+  long outliers_injected = 0;      // outlier trials at magnitude >= 10
+  double outliers_found_rate = 0.0;  // of those, flagged by the screen
+  double false_flag_rate = 0.0;      // flagged clean points / clean points, outlier and effect-free trials
 };
 
 Result<ValidationSummary> RunValidation(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,

@@ -65,13 +65,30 @@ RunnerUp FindRunnerUp(const VerdictInputs& in, const Ranking& ranking, std::size
   const auto& ind = verdict.indistinguishable_from;
   RunnerUp runner;
   for (const auto& [family, k] : ranking.best_of_family) {
-    if (!results[k].significant || family == results[v].family || std::find(ind.begin(), ind.end(), family) != ind.end())
+    // Not only the candidates significant on their own: beside a strong verdict a second effect
+    // is tested against a residual the verdict inflates (servo glitches beside a probe-radius error).
+    if (!results[k].observable || family == results[v].family || std::find(ind.begin(), ind.end(), family) != ind.end())
       continue;
     // The largest F (p underflows to 0 for several strong effects; F still orders them).
     const auto [f, p] = FBeyond(in, k, v);
     if (!runner.k || f > runner.f) runner.k = k, runner.p = p, runner.f = f;
   }
   return runner;
+}
+
+// A second effect that is not significant on its own is named only when the pair also predicts
+// better, cross-validated: at most 90 % of the verdict's held-out mean square is left (a model
+// mismatch of the verdict's effect, taken up in sample by another family, does not pass).
+constexpr double kPairCvMeanSquareRatio = 0.9;
+
+bool PairPredictsBetter(const std::optional<PairFit>& pair, const CandidateResult& verdict) {
+  if (!pair) return false;
+  // The verdict's held-out RMS by the pair's method (leave-one-feature-out, or PRESS); a pair
+  // held out by features beside a verdict held out by points has no common figure: named.
+  const bool pair_by_features = pair->cv_method == "leave-one-feature-out";
+  if (pair_by_features && verdict.cv_method != "leave-one-feature-out") return true;
+  const double alone = pair_by_features ? verdict.cv_rms_after_um : verdict.press_rms_after_um;
+  return pair->cv_rms_after_um * pair->cv_rms_after_um <= kPairCvMeanSquareRatio * alone * alone;
 }
 
 // The candidate fitted jointly with the verdict, and why, when the two are close: the runner-up
@@ -178,6 +195,8 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   if (runner.k && runner.p < in.scored.alpha_each) out->verdict.also = results[*runner.k].family;
   std::string why;
   if (const auto k = PairPartner(in, ranking, v, runner, &why)) out->pair = FitPair(in, v, *k, why);
+  if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
+    out->verdict.also.reset();
   const double n = static_cast<double>(in.gap.r.size());
   return {results[v].rms_after_um * results[v].rms_after_um * n, in.fit.basis.rank + results[v].rank};
 }
@@ -248,14 +267,16 @@ void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
     if (!out->local_defects.empty()) v.families.push_back("local_defect");
     return;
   }
-  if (!out->local_defects.empty()) {
+  // The gap is that of the points kept: a local defect's points are left out, so what still stands
+  // out lies elsewhere (a bent part flags patches and more).
+  const bool excess = out->excess_p_value < in.options.alpha && out->rms_um > kExcessRatio * out->neighbour_sigma_um;
+  if (!out->local_defects.empty() && out->standing_out.empty() && !excess) {
     v.family = "local_defect";
     v.name = DefectName(out->local_defects.front());
     for (std::size_t k = 1; k < out->local_defects.size(); ++k) v.name += "; " + DefectName(out->local_defects[k]);
     v.families = {v.family};
     return;
   }
-  const bool excess = out->excess_p_value < in.options.alpha && out->rms_um > kExcessRatio * out->neighbour_sigma_um;
   if (out->standing_out.empty() && !excess) return;
   v.family = "unexplained";
   v.name = out->standing_out.empty()
@@ -263,6 +284,7 @@ void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
                              out->neighbour_sigma_um)
                : "a gap no candidate explains, standing out at " + fmt::format("{}", fmt::join(out->standing_out, ", "));
   v.families = {v.family};
+  if (!out->local_defects.empty()) v.families.push_back("local_defect");
   v.partial = PartialCandidates(*out);
 }
 
