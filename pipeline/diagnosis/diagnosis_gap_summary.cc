@@ -106,6 +106,23 @@ void FitDrift(const Eigen::VectorXd& r0, const std::vector<double>& t_s, double 
   }
 }
 
+// Whether the feature's points lie on circles about their centroid's Z line: their radii about it
+// spread by at most 20 % of the mean. A line or a plane (M1's slot sides, the square's faces) has
+// radii from 0 to half its length: its "harmonics" are its bow and tilt, and read as 1, 3, 5 lobes.
+constexpr double kCircularRadiusSpread = 0.2;
+
+bool IsCircularProfile(const std::vector<Eigen::Index>& idx, const std::vector<kinematics::Observation>& obs,
+                       const Eigen::Vector3d& c) {
+  double lo = 1e300, hi = 0.0, sum = 0.0;
+  for (auto i : idx) {
+    const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
+    const double rho = std::hypot(d.x(), d.y());
+    lo = std::min(lo, rho), hi = std::max(hi, rho), sum += rho;
+  }
+  const double mean = sum / static_cast<double>(idx.size());
+  return mean > 0 && hi - lo <= kCircularRadiusSpread * mean;
+}
+
 // Harmonics 1..kmax of the gap around one circular profile (azimuth about its centroid, part Z),
 // appended to *all.
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
@@ -114,6 +131,7 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
   c /= static_cast<double>(idx.size());
+  if (!IsCircularProfile(idx, obs, c)) return;
   const int kmax = std::min<int>(max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
   // One pass: cos(k phi) + i sin(k phi) = w^k with w = e^{i phi} (azimuth phi of the point).
   std::vector<std::complex<double>> sum(static_cast<std::size_t>(std::max(kmax, 0)) + 1, 0.0);
