@@ -1,12 +1,15 @@
 // tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--anchor FEATURE@X,Y,Z]
 //                [--uncertainty jackknife|analytic|mc|all] [--parameters P,...] [--json OUT]
+//                tpcal identify BALLPOS --instrument datum_ball [--machine M.yaml] [--parameters P,...] [--json OUT]
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/datum_ball_stage.h"
 #include "pipeline/identify_report.h"
 #include "pipeline/report/identify_json.h"
 #include "pipeline/report/identify_summary.h"
@@ -20,9 +23,20 @@ struct IdentifyArgs {
   std::string anchor;  // FEATURE@X,Y,Z: the symmetric labelling of a raw scan
   std::string json;
   bool no_gap_check = false;
+  std::string instrument;  // "" = a test piece; datum_ball = a ball-position file
 };
 
+int RunDatumBall(const IdentifyArgs& args) {
+  auto report = pipeline::RunDatumBallStage({.path = args.request.points_path,
+                                             .machine_path = args.request.machine_path,
+                                             .parameters = args.request.parameters,
+                                             .ball_part_mm = std::nullopt});
+  if (!report.ok()) return ReportError(report.status());
+  return WriteJsonOrText(args.json, pipeline::DatumBallJson(*report), [&] { return pipeline::DatumBallText(*report); });
+}
+
 int RunIdentify(const IdentifyArgs& args) {
+  if (args.instrument == "datum_ball") return RunDatumBall(args);
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
   pipeline::IdentifyRequest request = args.request;
@@ -49,7 +63,16 @@ Command RegisterIdentify(CLI::App& app) {
       "symbols, the closed-form solution of the GD&T items beside it, and the C-axis radial/tilt error motions.\n"
       "3-axis pieces: squareness and the straightness profiles of the faces. Parameters the data cannot separate are reported as such,\n"
       "with the combinations that are determined. Uncertainty k = 1; 95 % intervals.");
-  sub->add_option("POINTS", args->request.points_path, "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm)")->required();
+  sub->add_option("POINTS", args->request.points_path,
+                  "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm), or with --instrument datum_ball "
+                  "a ball-position file (tpcal ballpos v1)")
+      ->required();
+  sub->add_option("--instrument", args->instrument,
+                  "datum_ball: POINTS holds datum-ball centres at rotary commands (touch probe, R-test); the location "
+                  "errors of the rotary axes and the squareness of the linear axes (seed 001) are identified, the "
+                  "ball centre fitted as a nuisance; --machine is the B/C or A/C table (default: the nominal one "
+                  "the file's rotary columns name)")
+      ->check(CLI::IsMember({"datum_ball"}));
   sub->add_option("--testpiece", args->request.testpiece, "test piece: " + names)->capture_default_str();
   sub->add_option("--config", args->request.config_path, "test-piece configuration YAML (schema tpcal.testpiece/1)");
   sub->add_option("--machine", args->request.machine_path, "machine model YAML (default: nominal ac_table or xyz)");

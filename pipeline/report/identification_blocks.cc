@@ -37,9 +37,12 @@ Json ParameterEstimateJson(const kinematics::ParameterEstimate& p) {
 }
 
 Json IdentifiabilityJson(const kinematics::IdentificationResult& id) {
+  return IdentifiabilityJson(id.identifiability, id.parameters);
+}
+
+Json IdentifiabilityJson(const kinematics::Identifiability& ident, const std::vector<kinematics::ParameterEstimate>& parameters) {
   std::map<std::string, std::string> unit_of;
-  for (const auto& p : id.parameters) unit_of[p.name] = p.unit;
-  const auto& ident = id.identifiability;
+  for (const auto& p : parameters) unit_of[p.name] = p.unit;
   Json idj;
   idj["num_parameters"] = ident.num_parameters;
   idj["rank"] = ident.rank;

@@ -18,6 +18,9 @@ nlohmann::ordered_json ParameterEstimateJson(const kinematics::ParameterEstimate
 //  "estimable": [{"combination", "names", "coefficients", "value", "u", "unit"}],
 //  "null_directions": ["dy_AR(-90) + dz_AR(-90)", ...]}.
 nlohmann::ordered_json IdentifiabilityJson(const kinematics::IdentificationResult& id);
+// The same block for any identification (units from `parameters`).
+nlohmann::ordered_json IdentifiabilityJson(const kinematics::Identifiability& ident,
+                                           const std::vector<kinematics::ParameterEstimate>& parameters);
 
 // {"rms_before_um", "rms_after_um", "sigma_um", "iterations", "termination"}.
 nlohmann::ordered_json IdentificationFitJson(const kinematics::IdentificationResult& id);

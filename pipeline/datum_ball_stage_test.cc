@@ -1,0 +1,115 @@
+// The datum-ball stage (pipeline/datum_ball_stage.h) and the ball-position reader
+// (pipeline/io/ballpos_reader.h). Truth of the sample: seed 001 Table 1(a)'s assumed errors on the
+// nominal B/C table (kinematics/datum_ball_test.cc maps its symbols), ball at (R, delta_YW, H) =
+// (200, 0.1, 300) mm (Table 1(a) prints R 200, delta_YW 300, H 0.1: the last two read swapped)
+// in the part frame, B = 0, +-30 deg and C every 30 deg, readings rounded to 0.1 um (the file's 4
+// decimals): identified within 4 u of the truth (u from the rounding, about 0.03 um).
+#include "pipeline/datum_ball_stage.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/units.h"
+#include "kinematics/datum_ball.h"
+#include "kinematics/error_parameters.h"
+#include "pipeline/io/ballpos_reader.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+const std::map<std::string, double> kTruth = {
+    {"E_A(0Y)Z", -34.0}, {"E_B(0X)Z", 29.0}, {"E_C(0X)Y", 17.0}, {"E_A0B", -17.0}, {"E_C0B", 75.0}, {"E_X0B", -12.0},
+    {"E_Z0B", 19.0},     {"E_A0C", -87.0},   {"E_B0C", 42.0},    {"E_X0C", 10.0},  {"E_Y0C", -15.0}};
+
+const std::string kSample = std::string(TPCAL_SOURCE_DIR) + "/samples/datum_ball/table1a_ballpos.csv";
+
+// The sample's text: the centring commands of the truth, 4 decimals (0.1 um).
+std::string SampleText() {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kBcTable);
+  EXPECT_TRUE(m.ok());
+  kinematics::ErrorState e(*m);
+  for (const auto& [name, v] : kTruth) {
+    auto info = kinematics::LookupParameter(*m, name);
+    EXPECT_TRUE(info.ok());
+    EXPECT_TRUE(e.SetParameter(*m, name, info->quantity == kinematics::Quantity::kAngle ? v * 1e-6 : UmToMm(v)).ok());
+  }
+  std::string out = "# tpcal ballpos v1\n# units: mm\nB_deg,C_deg,x,y,z\n";
+  for (int b : {0, 30, -30})
+    for (int c = 0; c < 360; c += 30) {
+      kinematics::AxisState rotary;
+      rotary.b_rad = DegToRad(b), rotary.c_rad = DegToRad(c);
+      auto cmd = kinematics::BallCentreCommand(*m, e, rotary, Eigen::Vector3d(200.0, 0.1, 300.0));
+      EXPECT_TRUE(cmd.ok());
+      out += fmt::format("{},{},{:.4f},{:.4f},{:.4f}\n", b, c, cmd->x(), cmd->y(), cmd->z());
+    }
+  return out;
+}
+
+// TPCAL_REGENERATE_SAMPLES=1 rewrites the sample from the model (then the test compares it again).
+TEST(DatumBallStage, SampleIsWhatTheModelGivesForItsTruth) {
+  if (const char* regenerate = std::getenv("TPCAL_REGENERATE_SAMPLES"); regenerate && std::string(regenerate) == "1")
+    std::ofstream(kSample) << SampleText();
+  std::ifstream in(kSample);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), SampleText());
+}
+
+TEST(DatumBallStage, SampleIdentifiesTable1aWithinItsUncertainty) {
+  auto r = RunDatumBallStage({.path = kSample, .machine_path = "", .parameters = {}, .ball_part_mm = std::nullopt});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->machine, "bc_table");
+  ASSERT_EQ(r->result.parameters.size(), kTruth.size());
+  for (const auto& p : r->result.parameters) {
+    EXPECT_TRUE(p.identifiable) << p.name;
+    EXPECT_LT(std::abs(p.value - kTruth.at(p.name)), 4.0 * p.u + 1e-3) << p.name << " " << p.value << " +- " << p.u;
+  }
+  EXPECT_LT(r->result.sigma_um, 0.1);  // 0.1 um rounding: sigma 0.029 um
+  EXPECT_EQ(r->lines.front(), 4u);
+}
+
+TEST(BallPositions, BadInputNamesFileLineAndWhatWasExpected) {
+  struct Case { const char* text; const char* message; std::size_t line; };
+  const Case cases[] = {
+      {"x,y,z\n", "expected '# tpcal ballpos v1'", 1},
+      {"# tpcal ballpos v1\n# units: inch\nB_deg,C_deg,x,y,z\n", "only mm", 2},
+      {"# tpcal ballpos v1\nB_deg,C_deg,x,y\n", "header needs x, y, z", 2},
+      {"# tpcal ballpos v1\nB_deg,C_deg,x,y,z,w\n", "unknown column 'w'", 2},
+      {"# tpcal ballpos v1\nB_deg,C_deg,x,y,z\n0,0,1,2\n", "expected 5 fields, got 4", 3},
+      {"# tpcal ballpos v1\nB_deg,C_deg,x,y,z\n0,0,1,nan,3\n", "field 4: expected a finite number", 3},
+      {"# tpcal ballpos v1\nB_deg,C_deg,x,y,z\n", "no ball positions", 2},
+      {"", "empty file", 1},  // found by the fuzzer (tests/fuzz/corpus/ballpos/empty.csv)
+  };
+  for (const auto& c : cases) {
+    auto r = ParseBallPositions(c.text, "f.csv");
+    ASSERT_FALSE(r.ok()) << c.text;
+    EXPECT_NE(r.status().message().find(c.message), std::string::npos) << r.status().ToString();
+    EXPECT_EQ(r.status().line(), c.line) << r.status().ToString();
+    EXPECT_EQ(r.status().file(), "f.csv");
+  }
+}
+
+TEST(DatumBallStage, RotaryColumnsMustBeTheMachines) {
+  const auto dir = std::filesystem::temp_directory_path() / "tpcal_ballpos_test";
+  std::filesystem::create_directories(dir);
+  const auto path = (dir / "a.csv").string();
+  std::ofstream(path) << "# tpcal ballpos v1\nA_deg,C_deg,x,y,z\n0,0,1,2,3\n0,90,1,2,3\n30,0,1,2,3\n";
+  auto r = RunDatumBallStage({.path = path,
+                              .machine_path = std::string(TPCAL_SOURCE_DIR) + "/samples/machines/bc_table.yaml",
+                              .parameters = {},
+                              .ball_part_mm = std::nullopt});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("A_deg: the machine (bc_table) has no such axis"), std::string::npos)
+      << r.status().ToString();
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline

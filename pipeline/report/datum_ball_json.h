@@ -1,0 +1,24 @@
+// What `tpcal identify BALLPOS --instrument datum_ball` writes: the tpcal.identification/1 JSON
+// (docs/formats/identify_json.md, section "Datum ball") and the text summary of a datum-ball
+// identification (kinematics/datum_ball.h).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "kinematics/datum_ball.h"
+
+namespace tpcal::pipeline {
+
+struct DatumBallReport {
+  std::string source;        // the ball-position file
+  std::string machine;       // machine type name
+  std::vector<std::size_t> lines;  // source line of each reading
+  kinematics::DatumBallResult result;
+};
+
+std::string DatumBallJson(const DatumBallReport& report);
+std::string DatumBallText(const DatumBallReport& report);
+
+}  // namespace tpcal::pipeline
