@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "core/units.h"
+#include "kinematics/error_parameters.h"
+#include "kinematics/errors_yaml.h"
 #include "kinematics/machine_yaml.h"
 #include "pipeline/io/ballpos_reader.h"
 
@@ -27,6 +29,25 @@ Status CheckRotaryColumns(const kinematics::MachineModel& m, const BallPositionF
                     file.source);
   }
   return Status::Ok();
+}
+
+// The identifiable errors as tpcal.errors/1; the others are named in a comment, not given a value.
+Result<std::string> IdentifiedErrorsYaml(const kinematics::MachineModel& m, const kinematics::DatumBallResult& r) {
+  kinematics::ErrorState e(m);
+  std::string left_out;
+  for (const auto& p : r.parameters) {
+    if (!p.identifiable) {
+      left_out += (left_out.empty() ? "" : ", ") + p.name;
+      continue;
+    }
+    auto info = kinematics::LookupParameter(m, p.name);
+    if (!info.ok()) return info.status();
+    const double internal = info->quantity == kinematics::Quantity::kAngle ? p.value * 1e-6 : UmToMm(p.value);
+    if (Status s = e.SetParameter(m, p.name, internal); !s.ok()) return s;
+  }
+  std::string out = "# identified from a datum-ball test (tpcal identify --instrument datum_ball)\n";
+  if (!left_out.empty()) out += "# not identifiable by this plan, left out: " + left_out + "\n";
+  return out + kinematics::FormatErrorState(e, m);
 }
 
 }  // namespace
@@ -56,7 +77,10 @@ Result<DatumBallReport> RunDatumBallStage(const DatumBallRequest& r) {
     Status s = result.status();
     return s.file().empty() ? s.WithLocation(r.path, s.line()) : s;
   }
-  return DatumBallReport{r.path, kinematics::MachineTypeName(machine->type), std::move(lines), std::move(*result)};
+  auto yaml = IdentifiedErrorsYaml(*machine, *result);
+  if (!yaml.ok()) return yaml.status();
+  return DatumBallReport{r.path, kinematics::MachineTypeName(machine->type), std::move(lines), std::move(*result),
+                         std::move(*yaml)};
 }
 
 }  // namespace tpcal::pipeline

@@ -20,7 +20,7 @@ struct DatumBallRequest {
   std::optional<Eigen::Vector3d> ball_part_mm;  // known ball centre (part frame); unset: fitted
 };
 
-// Errors: the file's (file:line); a rotary column the machine has not, or a machine rotary axis
+// The report holds the identified errors as tpcal.errors/1 too. Errors: the file's (file:line); a rotary column the machine has not, or a machine rotary axis
 // the file lacks (kInvalidArgument naming the file); the machine file's; the identification's
 // (a reading that cannot be centred names its line).
 Result<DatumBallReport> RunDatumBallStage(const DatumBallRequest& request);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "core/units.h"
 #include "kinematics/datum_ball.h"
 #include "kinematics/error_parameters.h"
+#include "kinematics/errors_yaml.h"
 #include "pipeline/io/ballpos_reader.h"
 
 namespace tpcal::pipeline {
@@ -73,6 +75,34 @@ TEST(DatumBallStage, SampleIdentifiesTable1aWithinItsUncertainty) {
   }
   EXPECT_LT(r->result.sigma_um, 0.1);  // 0.1 um rounding: sigma 0.029 um
   EXPECT_EQ(r->lines.front(), 4u);
+}
+
+// The identified errors as tpcal.errors/1 read back (as simulate --errors and diagnose
+// --reference read them) give the identified values and centre the ball where the readings say,
+// within the readings' rounding (sigma 0.03 um: every residual below 0.2 um).
+TEST(DatumBallStage, ErrorsYamlReadsBackToTheIdentifiedMachine) {
+  auto r = RunDatumBallStage({.path = kSample, .machine_path = "", .parameters = {}, .ball_part_mm = std::nullopt});
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kBcTable);
+  ASSERT_TRUE(m.ok());
+  auto e = kinematics::ParseErrorState(r->errors_yaml, "identified.yaml", *m);
+  ASSERT_TRUE(e.ok()) << e.status().ToString() << "\n" << r->errors_yaml;
+  for (const auto& p : r->result.parameters) {
+    auto v = e->Parameter(*m, p.name);
+    ASSERT_TRUE(v.ok()) << p.name;
+    auto info = kinematics::LookupParameter(*m, p.name);
+    const double display = info->quantity == kinematics::Quantity::kAngle ? *v * 1e6 : MmToUm(*v);
+    EXPECT_NEAR(display, p.value, 1e-9 * std::max(1.0, std::abs(p.value))) << p.name;
+  }
+  auto file = ReadBallPositions(kSample);
+  ASSERT_TRUE(file.ok());
+  for (const auto& row : file->rows) {
+    kinematics::AxisState rotary;
+    rotary.b_rad = DegToRad(row.rotary_deg.at('B')), rotary.c_rad = DegToRad(row.rotary_deg.at('C'));
+    auto cmd = kinematics::BallCentreCommand(*m, *e, rotary, r->result.ball_part_mm);
+    ASSERT_TRUE(cmd.ok());
+    EXPECT_LT(MmToUm((*cmd - row.centre_mm).cwiseAbs().maxCoeff()), 0.2) << "line " << row.line;
+  }
 }
 
 TEST(BallPositions, BadInputNamesFileLineAndWhatWasExpected) {

@@ -9,8 +9,10 @@
 
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
+#include "pipeline/cli/piece_args.h"
 #include "pipeline/datum_ball_stage.h"
 #include "pipeline/identify_report.h"
+#include "pipeline/io/atomic_file.h"
 #include "pipeline/report/identify_json.h"
 #include "pipeline/report/identify_summary.h"
 #include "testpieces/named_pieces.h"
@@ -24,15 +26,23 @@ struct IdentifyArgs {
   std::string json;
   bool no_gap_check = false;
   std::string instrument;  // "" = a test piece; datum_ball = a ball-position file
+  std::string errors_out;  // datum_ball: also the identified errors as tpcal.errors/1
 };
 
 int RunDatumBall(const IdentifyArgs& args) {
+  if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
+    return ReportError(s);
   auto report = pipeline::RunDatumBallStage({.path = args.request.points_path,
                                              .machine_path = args.request.machine_path,
                                              .parameters = args.request.parameters,
                                              .ball_part_mm = std::nullopt});
   if (!report.ok()) return ReportError(report.status());
-  return WriteJsonOrText(args.json, pipeline::DatumBallJson(*report), [&] { return pipeline::DatumBallText(*report); });
+  const int exit =
+      WriteJsonOrText(args.json, pipeline::DatumBallJson(*report), [&] { return pipeline::DatumBallText(*report); });
+  if (exit != kExitOk || args.errors_out.empty()) return exit;
+  if (Status s = pipeline::WriteFileAtomic(args.errors_out, report->errors_yaml); !s.ok()) return ReportError(s);
+  Info("wrote " + args.errors_out + " (tpcal.errors/1)");
+  return kExitOk;
 }
 
 int RunIdentify(const IdentifyArgs& args) {
@@ -73,6 +83,9 @@ Command RegisterIdentify(CLI::App& app) {
                   "ball centre fitted as a nuisance; --machine is the B/C or A/C table (default: the nominal one "
                   "the file's rotary columns name)")
       ->check(CLI::IsMember({"datum_ball"}));
+  sub->add_option("--errors-out", args->errors_out,
+                  "with --instrument: also write the identified errors as tpcal.errors/1 (for simulate --errors and "
+                  "diagnose --reference); errors the plan cannot identify are named in a comment, not written");
   sub->add_option("--testpiece", args->request.testpiece, "test piece: " + names)->capture_default_str();
   sub->add_option("--config", args->request.config_path, "test-piece configuration YAML (schema tpcal.testpiece/1)");
   sub->add_option("--machine", args->request.machine_path, "machine model YAML (default: nominal ac_table or xyz)");

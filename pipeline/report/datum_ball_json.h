@@ -16,6 +16,9 @@ struct DatumBallReport {
   std::string machine;       // machine type name
   std::vector<std::size_t> lines;  // source line of each reading
   kinematics::DatumBallResult result;
+  // tpcal.errors/1 (kinematics/errors_yaml.md) of the identifiable errors, for `simulate --errors`
+  // and `diagnose --reference`; a comment names those left out (not identifiable by the plan).
+  std::string errors_yaml;
 };
 
 std::string DatumBallJson(const DatumBallReport& report);
