@@ -12,7 +12,6 @@
 #include "kinematics/error_parameters.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/internal/combination.h"
-#include "kinematics/internal/student_t.h"
 #include "kinematics/jacobians.h"
 
 namespace tpcal::kinematics {
@@ -102,17 +101,6 @@ void SetParams(const ActiveSet& active, const std::vector<double>& scales, const
   for (int k = 0; k < active.size(); ++k)
     errors->set_coefficient(active.coefficients[static_cast<std::size_t>(k)],
                             theta_display(k) / scales[static_cast<std::size_t>(k)]);
-}
-
-Uncertainty MakeU(UncertaintyMethod m, double value, double u, double nu) {
-  Uncertainty out;
-  out.method = m;
-  out.available = std::isfinite(u);
-  out.u = u;
-  const double k95 = internal::StudentTQuantile975(nu);
-  out.ci95_low = value - k95 * u;
-  out.ci95_high = value + k95 * u;
-  return out;
 }
 
 // Delete one reading (its three rows), linearised at the solution: u per coefficient (display).
@@ -239,9 +227,9 @@ Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<c
     p.identifiable = std::find(out.identifiability.not_identifiable.begin(), out.identifiability.not_identifiable.end(),
                                p.name) == out.identifiability.not_identifiable.end();
     p.value = theta(k);
-    p.uncertainties.push_back(MakeU(UncertaintyMethod::kAnalytic, p.value, std::sqrt(cov(k, k)), dof));
+    p.uncertainties.push_back(MakeUncertainty(UncertaintyMethod::kAnalytic, p.value, std::sqrt(cov(k, k)), dof));
     if (options.jackknife)
-      p.uncertainties.push_back(MakeU(UncertaintyMethod::kJackknifePoints, p.value, jack(k), dof));
+      p.uncertainties.push_back(MakeUncertainty(UncertaintyMethod::kJackknifePoints, p.value, jack(k), dof));
     p.u = p.uncertainties.front().u;
     p.ci95_low = p.uncertainties.front().ci95_low, p.ci95_high = p.uncertainties.front().ci95_high;
     out.parameters.push_back(std::move(p));

@@ -217,6 +217,8 @@ class PointResiduals final : public ceres::CostFunction {
   mutable std::vector<SurfacePoint> solved_;  // per observation
 };
 
+}  // namespace
+
 Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu) {
   Uncertainty out;
   out.method = m;
@@ -227,8 +229,6 @@ Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double 
   out.ci95_high = value + k95 * u;
   return out;
 }
-
-}  // namespace
 
 const char* UncertaintyMethodName(UncertaintyMethod m) {
   switch (m) {

@@ -106,6 +106,9 @@ struct Uncertainty {
   std::string message;
 };
 
+// `u` (k = 1) by method `m` with its 95 % interval value -+ t(0.975, nu) u; available when u is finite.
+Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu);
+
 struct ParameterEstimate {
   std::string name;        // coefficient name (ErrorState), e.g. "dx_CR(0)", "E_XC@A=0.cos2"
   std::string iso_symbol;  // ISO 230-1 symbol or relation (catalog), "" if none
