@@ -12,9 +12,8 @@ using gdt::CharacteristicSpec;
 using gdt::CharacteristicType;
 using gdt::FeatureKind;
 using gdt::FeatureSpec;
-using gdt::Projection;
 
-FeatureSpec Feature(const std::string& name, FeatureKind kind, Projection proj = Projection::kNone) {
+FeatureSpec Feature(const std::string& name, FeatureKind kind, gdt::Projection proj = gdt::Projection::kNone) {
   FeatureSpec f;
   f.name = name;
   f.kind = kind;
@@ -75,17 +74,17 @@ gdt::InspectionPlan TurningPlan(const TestPiece& piece) {
   nominal("hole_pitch_deg", 360.0 / p.hole_count);
 
   plan.features.push_back(PlaneUp("B_R"));
-  plan.features.push_back(Feature("S_R", FeatureKind::kCircle, Projection::kDatumXY));
-  if (p.groove_inner_wall_pass) plan.features.push_back(Feature("S_RI", FeatureKind::kCircle, Projection::kDatumXY));
-  FeatureSpec pitch = Feature("C_h", FeatureKind::kPitchCircle, Projection::kDatumXY);
+  plan.features.push_back(Feature("S_R", FeatureKind::kCircle, gdt::Projection::kDatumXY));
+  if (p.groove_inner_wall_pass) plan.features.push_back(Feature("S_RI", FeatureKind::kCircle, gdt::Projection::kDatumXY));
+  FeatureSpec pitch = Feature("C_h", FeatureKind::kPitchCircle, gdt::Projection::kDatumXY);
   for (int k = 0; k < p.hole_count; ++k) {
     const std::string h = "H" + std::to_string(k + 1);
-    plan.features.push_back(Feature(h, FeatureKind::kCircle, Projection::kDatumXY));
+    plan.features.push_back(Feature(h, FeatureKind::kCircle, gdt::Projection::kDatumXY));
     pitch.members.push_back(h);
   }
   plan.features.push_back(pitch);
   for (int i = 1; i <= 6; ++i) {
-    plan.features.push_back(Feature("S" + std::to_string(i), FeatureKind::kCircle, Projection::kDatumXY));
+    plan.features.push_back(Feature("S" + std::to_string(i), FeatureKind::kCircle, gdt::Projection::kDatumXY));
     plan.features.push_back(PlaneUp("B" + std::to_string(i)));
   }
 
