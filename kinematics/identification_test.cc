@@ -26,6 +26,7 @@
 #include "kinematics/identification.h"
 #include "kinematics/inverse_kinematics.h"
 #include "kinematics/machine_model.h"
+#include "kinematics/prior_update.h"
 #include "kinematics/simulate.h"
 
 namespace tpcal::kinematics {
@@ -452,6 +453,46 @@ TEST(Identification, BadInputsAreStatuses) {
   const Result<IdentificationResult> blind = Identify(m, idle, *unseen, obs);
   ASSERT_FALSE(blind.ok());
   EXPECT_EQ(blind.status().code(), StatusCode::kNotIdentifiable) << blind.status().ToString();
+}
+
+// UpdateWithinPrior (kinematics/prior_update.h) on the noise-free box. Truth: the squareness set
+// above; the prior: the truth + 20 urad on each. A prior of u = 1e-3 urad is kept (the piece's
+// information, ~1 / (0.1 urad)^2 at sigma 1 um, moves it by about (1e-3 / 0.1)^2 x 20 = 2e-3
+// urad); one of u = 1e6 urad gives the piece's own fit, the truth, to the linearisation's
+// second order (20e-6^2 x 100 mm = 4e-5 um: below 1e-3 urad); a coefficient without prior
+// (u = 0) likewise. A prior u equal to the piece's marginal u (the others free) halves the 20 urad.
+TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalfway) {
+  const MachineModel m = IdentifyTestMachine();
+  const std::vector<std::string> names = IsoLocationSet(m);
+  ErrorState base(m), truth(m);
+  ActiveSet active;
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
+  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+  ErrorState prior = truth;
+  for (int c : active.coefficients)
+    prior.set_coefficient(c, truth.coefficient(c) + 20.0 / truth.coefficient_info(c).display_per_internal);
+  auto value = [&](const ErrorState& e, std::size_t k) {
+    const int c = active.coefficients[k];
+    return e.coefficient(c) * e.coefficient_info(c).display_per_internal;
+  };
+  auto tight = UpdateWithinPrior(m, prior, active, std::vector<double>{1e-3, 1e-3, 1e-3}, obs, 1.0);
+  ASSERT_TRUE(tight.ok()) << tight.status().ToString();
+  auto loose = UpdateWithinPrior(m, prior, active, std::vector<double>{1e6, 0.0, 1e6}, obs, 1.0);
+  ASSERT_TRUE(loose.ok()) << loose.status().ToString();
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    EXPECT_NEAR(value(tight->posterior, k), kIdentifyTestSquareness_urad[k] + 20.0, 0.01) << names[k];
+    EXPECT_NEAR(value(loose->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
+    EXPECT_LT(tight->posterior_u[k], 1e-3) << names[k];
+  }
+  // Equal weights: the piece's u of each coefficient (sigma 1 um) as the prior's u.
+  std::vector<double> piece_u(loose->posterior_u.begin(), loose->posterior_u.end());
+  ASSERT_GT(piece_u[1], 0.0);
+  auto half = UpdateWithinPrior(m, prior, active, std::vector<double>{1e6, piece_u[1], 1e6}, obs, 1.0);
+  ASSERT_TRUE(half.ok()) << half.status().ToString();
+  EXPECT_NEAR(value(half->posterior, 1), kIdentifyTestSquareness_urad[1] + 10.0, 0.01);
+  EXPECT_FALSE(UpdateWithinPrior(m, prior, active, std::vector<double>{1.0}, obs, 1.0).ok());
+  EXPECT_FALSE(UpdateWithinPrior(m, prior, active, piece_u, obs, 0.0).ok());
 }
 
 }  // namespace

@@ -1,0 +1,61 @@
+#include "kinematics/prior_update.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <string>
+
+namespace tpcal::kinematics {
+namespace {
+
+// (I - P_A) M: M with its component in the column space of A removed (A full column rank or not).
+Eigen::MatrixXd WithoutSpanOf(const Eigen::MatrixXd& A, const Eigen::MatrixXd& M) {
+  if (A.cols() == 0) return M;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), qr.rank());
+  return M - Q * (Q.transpose() * M);
+}
+
+// Information of the prior: 1 / u^2 where it knows the coefficient, 0 where it does not.
+Eigen::VectorXd PriorInformation(std::span<const double> prior_u) {
+  Eigen::VectorXd info(static_cast<Eigen::Index>(prior_u.size()));
+  for (std::size_t k = 0; k < prior_u.size(); ++k) {
+    const double u = prior_u[k];
+    info(static_cast<Eigen::Index>(k)) = (std::isfinite(u) && u > 0.0) ? 1.0 / (u * u) : 0.0;
+  }
+  return info;
+}
+
+}  // namespace
+
+Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
+                                      std::span<const double> prior_u, std::span<const Observation> observations,
+                                      double sigma_um) {
+  if (prior_u.size() != active.coefficients.size())
+    return Status(StatusCode::kInvalidArgument, "prior update: " + std::to_string(prior_u.size()) +
+                                                    " uncertainties for " + std::to_string(active.size()) + " coefficients");
+  if (!(sigma_um > 0.0)) return Status(StatusCode::kInvalidArgument, "prior update: noise sigma must be > 0 um");
+  if (observations.empty()) return Status(StatusCode::kInvalidArgument, "prior update: no observation");
+  auto lin = LineariseObservations(model, prior, active, observations);
+  if (!lin.ok()) return lin.status();
+  const Eigen::MatrixXd J = WithoutSpanOf(lin->J_dev_alignment, lin->J_dev_params);
+  const Eigen::VectorXd y = WithoutSpanOf(lin->J_dev_alignment, lin->measured_dev_um - lin->predicted_dev_um);
+  const double w = 1.0 / (sigma_um * sigma_um);
+  Eigen::MatrixXd info = w * J.transpose() * J;
+  info.diagonal() += PriorInformation(prior_u);
+  // A direction neither sees: pseudo-inverse (relative threshold far below any real information).
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(info);
+  cod.setThreshold(1e-12);
+  const Eigen::VectorXd delta = cod.solve(w * J.transpose() * y);
+  const Eigen::MatrixXd cov = cod.pseudoInverse();
+  PriorUpdate out(prior);
+  for (int k = 0; k < active.size(); ++k) {
+    const int c = active.coefficients[static_cast<std::size_t>(k)];
+    const double per = prior.coefficient_info(c).display_per_internal;
+    out.posterior.set_coefficient(c, prior.coefficient(c) + delta(k) / per);
+    out.delta.push_back(delta(k));
+    out.posterior_u.push_back(std::sqrt(std::max(0.0, cov(k, k))));
+  }
+  return out;
+}
+
+}  // namespace tpcal::kinematics

@@ -1,0 +1,37 @@
+// Machine errors known from one measurement (a prior: values with standard uncertainties, e.g. a
+// probing test) updated by another (a test piece's observations), each weighed by what it knows.
+// Linear Gaussian update at the prior: with the piece's deviations y = measured - predicted at
+// the prior, their design J (display units, kinematics::LineariseObservations) and the 6-DOF
+// re-alignment projected out (P), noise sigma and the prior's covariance S = diag(u^2):
+//   delta = (J^T P J / sigma^2 + S^-1)^-1 J^T P y / sigma^2,  posterior = prior + delta.
+// A coefficient the prior does not know (u <= 0 or not finite) is weighed by the piece alone;
+// one neither sees keeps the prior's value. Correlations within the prior are not used (the
+// probing-test results give u per parameter); with u -> 0 the prior is kept, with u -> infinity
+// the result is the piece's own least-squares fit (linearised at the prior).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/status.h"
+#include "kinematics/error_state.h"
+#include "kinematics/identification.h"
+#include "kinematics/machine_model.h"
+
+namespace tpcal::kinematics {
+
+struct PriorUpdate {
+  explicit PriorUpdate(ErrorState e) : posterior(std::move(e)) {}
+  ErrorState posterior;              // the prior with `delta` added to the active coefficients
+  std::vector<double> delta;         // per active coefficient, display units (um, urad)
+  std::vector<double> posterior_u;   // per active coefficient, display units, k = 1
+};
+
+// `prior_u` holds one standard uncertainty per coefficient of `active` (display units).
+// Errors: kInvalidArgument (sizes differ, sigma_um <= 0, no observation), those of
+// LineariseObservations.
+Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
+                                      std::span<const double> prior_u, std::span<const Observation> observations,
+                                      double sigma_um);
+
+}  // namespace tpcal::kinematics
