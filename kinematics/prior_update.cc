@@ -43,8 +43,9 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
   Eigen::MatrixXd info = w * J.transpose() * J;
   info.diagonal() += PriorInformation(prior_u);
   // A direction neither sees: pseudo-inverse (relative threshold far below any real information).
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(info);
-  cod.setThreshold(1e-12);
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+  cod.setThreshold(1e-12);  // before compute: the rank it finds shapes the decomposition
+  cod.compute(info);
   const Eigen::VectorXd delta = cod.solve(w * J.transpose() * y);
   const Eigen::MatrixXd cov = cod.pseudoInverse();
   PriorUpdate out(prior);

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "kinematics/errors_yaml.h"
+#include "pipeline/instrument_reference.h"
 #include "pipeline/io/point_io.h"
 
 namespace tpcal::pipeline {
@@ -37,12 +38,18 @@ Status LoadDiagnosisReference(const std::string& path, const kinematics::Machine
   return Status::Ok();
 }
 
+std::string ReferenceKind(const DiagnoseRequest& r, bool reference_points) {
+  if (r.reference_path.empty()) return "";
+  if (!r.reference_instrument.empty()) return r.reference_instrument;
+  return reference_points ? "points" : "machine errors";
+}
+
 std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, bool reference_points) {
   return {{"points", r.points_path},
           {"testpiece", r.config_path.empty() ? r.testpiece : r.config_path},
           {"machine", r.machine_path.empty() ? "nominal" : r.machine_path},
           {"reference", r.reference_path},
-          {"reference_kind", r.reference_path.empty() ? "" : (reference_points ? "points" : "machine errors")},
+          {"reference_kind", ReferenceKind(r, reference_points)},
           {"noise_um", fmt::format("{}", r.noise_um)},
           {"alpha", fmt::format("{}", r.alpha)},
           {"keep_outliers", r.keep_outliers ? "true" : "false"}};
@@ -64,6 +71,15 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   options.noise_um = r.noise_um;
   options.alpha = r.alpha;
   options.screen_outliers = !r.keep_outliers;
+  if (!r.reference_instrument.empty()) {
+    if (r.reference_path.empty())
+      return Status(StatusCode::kInvalidArgument, "--reference-instrument needs --reference FILE (the instrument's file)");
+    auto d = DiagnoseAgainstInstrument(
+        setup, points->points,
+        {.path = r.reference_path, .instrument = r.reference_instrument, .machine_path = r.machine_path}, options);
+    if (!d.ok()) return d.status();
+    return DiagnoseStageResult{std::move(*d), DiagnosisInputs(r, false)};
+  }
   std::optional<PointSet> reference_points;
   if (!r.reference_path.empty()) {
     if (Status s = LoadDiagnosisReference(r.reference_path, setup.machine, &options, &reference_points); !s.ok())

@@ -25,6 +25,9 @@ struct DiagnoseRequest {
   // "" = the fitted base model; machine errors (.yaml / .yml, tpcal.errors/1) or a point file (an
   // extension ReadPoints knows: .csv, .ply, .pcd, .xyz, .txt)
   std::string reference_path{};
+  // With reference_path: the instrument whose raw file it is ("datum_ball": tpcal ballpos v1),
+  // identified first and compared with the piece (pipeline/instrument_reference.h).
+  std::string reference_instrument{};
   double noise_um = 0.0;              // known CMM noise sigma; 0 = estimated
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
   bool keep_outliers = false;         // true: flagged points stay in (DiagnosisOptions::screen_outliers)
@@ -35,7 +38,8 @@ struct DiagnoseRequest {
 struct DiagnoseStageResult {
   DiagnosisResult diagnosis;
   // The "inputs" of the diagnosis JSON: points, testpiece (the configuration file if given),
-  // machine ("nominal" if none), reference, reference_kind ("points", "machine errors" or ""),
+  // machine ("nominal" if none), reference, reference_kind ("points", "machine errors", the
+  // instrument's name or ""),
   // noise_um, alpha, keep_outliers ("true" or "false").
   std::map<std::string, std::string> inputs;
 };
@@ -46,7 +50,8 @@ Result<LoadedPiece> LoadDiagnosisPiece(const DiagnoseRequest& request);
 
 // Errors, in this order: the point file's and the labelling's; a reference of neither kind
 // (kInvalidArgument "--reference PATH: expected machine errors (.yaml, .yml) or a point file
-// (...)"), the reference file's; the diagnosis's.
+// (...)"), the reference file's; the diagnosis's. With reference_instrument: those of
+// DiagnoseAgainstInstrument.
 Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const DiagnoseRequest& request);
 
 // The validation's Markdown: a title line naming the piece, seed, trials, magnitudes (raw or

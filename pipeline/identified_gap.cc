@@ -6,11 +6,9 @@ namespace tpcal::pipeline {
 
 Result<DiagnosisResult> DiagnoseIdentified(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const IdentifyStageResult& stage, const PointSet& measured,
-                                           bool screen_outliers) {
-  DiagnosisOptions options;
+                                           DiagnosisOptions options) {
   options.base_parameters = stage.parameters;
   options.nominal_slot_design = stage.nominal_slot_design;
-  options.screen_outliers = screen_outliers;
   options.prior_outliers = stage.outliers;
   options.prior_local_defects = stage.local_defects;
   auto d = DiagnoseObservations(piece, machine, stage.observations, options);

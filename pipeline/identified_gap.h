@@ -13,9 +13,10 @@
 namespace tpcal::pipeline {
 
 // `measured` is the point file the stage read (flagged points get its file lines);
-// screen_outliers as the stage's. Errors: those of DiagnoseObservations.
+// options.screen_outliers as the stage's; its base set, slot design and prior screen are set
+// here (noise, alpha and a reference are the caller's). Errors: those of DiagnoseObservations.
 Result<DiagnosisResult> DiagnoseIdentified(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                            const IdentifyStageResult& stage, const PointSet& measured,
-                                           bool screen_outliers);
+                                           DiagnosisOptions options);
 
 }  // namespace tpcal::pipeline

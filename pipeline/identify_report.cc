@@ -36,7 +36,9 @@ Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPie
   if (!stage.ok()) return stage.status();
   std::optional<GapCheck> check;
   if (gap_check) {
-    auto d = DiagnoseIdentified(piece, machine, *stage, measured, options.screen_outliers);
+    DiagnosisOptions gap_options;
+    gap_options.screen_outliers = options.screen_outliers;
+    auto d = DiagnoseIdentified(piece, machine, *stage, measured, gap_options);
     if (d.ok()) check = GapCheckOf(*d);
   }
   auto motions = CAxisErrorMotions(piece, *stage);

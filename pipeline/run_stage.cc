@@ -104,7 +104,9 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   Status diagnosis_status;
   if (config.diagnose) {
     clock.Start("diagnose");
-    auto d = DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, !config.keep_outliers);
+    DiagnosisOptions gap_options;
+    gap_options.screen_outliers = !config.keep_outliers;
+    auto d = DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options);
     if (d.ok())
       diagnosis = std::move(*d);
     else

@@ -67,7 +67,12 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
   AddAnchorOption(sub, &args->anchor);
   sub->add_option("--reference", r->reference_path,
                   "the sim instead of the fitted base: machine errors YAML (tpcal.errors/1, .yaml/.yml), not refitted, "
-                  "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point");
+                  "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point, "
+                  "or an instrument's file (with --reference-instrument)");
+  sub->add_option("--reference-instrument", r->reference_instrument,
+                  "--reference is this instrument's file, identified first: datum_ball (tpcal ballpos v1); the piece "
+                  "is compared with it parameter by parameter and diagnosed against it")
+      ->check(CLI::IsMember({"datum_ball"}));
   sub->add_option("--noise-um", r->noise_um, "known CMM noise sigma (um) for 'beyond noise'; 0 = estimated")
       ->capture_default_str();
   sub->add_option("--alpha", r->alpha, "family-wise false-alarm probability of the verdict")->capture_default_str();
@@ -96,6 +101,9 @@ Command RegisterDiagnose(CLI::App& app) {
       "reference point by point, each file in its own datum frame, points matched within their feature by order\n"
       "when the counts match and every pair's nominal positions lie within 1 mm, otherwise by nearest nominal\n"
       "position (within 1 mm, else the point is skipped); only the re-alignment is fitted.\n"
+      "--reference BALLPOS.csv --reference-instrument datum_ball: the datum-ball test is identified, the piece is\n"
+      "identified with the same parameters, the two are compared (value +- u each, z; Bonferroni at --alpha), and\n"
+      "the gap is diagnosed against the instrument's errors updated by the piece within the instrument's u.\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   CLI::Option* testpiece = AddDiagnoseOptions(sub, args.get());
   AddValidateOptions(sub, &args->validate);

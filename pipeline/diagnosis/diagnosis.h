@@ -75,6 +75,7 @@
 #include "kinematics/error_state.h"
 #include "kinematics/machine_model.h"
 #include "pipeline/diagnosis/outlier_screen.h"
+#include "pipeline/diagnosis/reference_agreement.h"
 #include "testpieces/point_association.h"
 #include "testpieces/test_piece.h"
 
@@ -280,6 +281,8 @@ struct DiagnosisResult {
   double excess_p_value = 1.0;
   std::vector<double> gap_um;                    // per observation
   std::vector<std::string> point_feature;        // per observation
+  // Against an instrument (pipeline/instrument_reference.h): where the two agree, parameter by parameter.
+  std::optional<ReferenceAgreement> reference_agreement;
 };
 
 // The error slots the diagnosis linearises at the nominal machine for `observations`' piece: those

@@ -8,6 +8,7 @@
 #include "core/xml_escape.h"
 #include "pipeline/report/diagnosis_html_blocks.h"
 #include "pipeline/report/json_util.h"
+#include "pipeline/report/reference_agreement_report.h"
 #include "pipeline/report/screen_json.h"
 
 namespace tpcal::pipeline {
@@ -149,6 +150,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   j["weakly_observable"] = weak;
   j["base_parameters"] = ParametersJson(r.base_parameters);
   j["skipped_points"] = r.skipped_points;
+  if (r.reference_agreement) j["reference_agreement"] = ReferenceAgreementJson(*r.reference_agreement);
   if (!inputs.empty()) {
     json in = json::object();
     for (const auto& [k, val] : inputs) in[k] = val;
@@ -231,6 +233,7 @@ std::string DiagnosisText(const DiagnosisResult& r) {
   if (!r.skipped_points.empty())
     o += fmt::format("{} point(s) skipped (no cut of their feature reaches them), first: {}\n", r.skipped_points.size(),
                      r.skipped_points.front());
+  if (r.reference_agreement) o += ReferenceAgreementText(*r.reference_agreement);
   return o;
 }
 
@@ -248,6 +251,7 @@ std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
     o += "</p>\n";
   }
   o += VerdictFamiliesHtml(r.verdict) + BaseShiftHtml(r) + ScreenHtml(r);
+  if (r.reference_agreement) o += ReferenceAgreementHtml(*r.reference_agreement);
   o += "<h2>Gap</h2><pre>" + XmlEscape(DiagnosisText(r)) + "</pre>\n";
   o += "<h2>Gap by feature</h2><table><tr><th>feature</th><th>n</th><th>rms um</th><th>max um</th><th>mean um</th><th>z</th></tr>\n";
   for (const auto& g : r.by_feature)
