@@ -157,7 +157,11 @@ std::vector<std::string> HeaderLines(const IrProgram& prog, const GcodeOptions& 
   std::vector<std::string> h;
   auto num = [](double v, int d) { return FormatNumber(v, d); };
   h.push_back("TPCAL NC PROGRAM " + o.program_name);
-  h.push_back("TEST PIECE: " + prog.piece_name + " [" + testpieces::PieceKindName(prog.kind) + "]");
+  if (prog.instrument.empty()) {
+    h.push_back("TEST PIECE: " + prog.piece_name + " [" + testpieces::PieceKindName(prog.kind) + "]");
+  } else {
+    h.push_back("INSTRUMENT: " + prog.instrument);
+  }
   h.push_back("STANDARD: " + prog.standard);
   h.push_back("MACHINE: " + prog.machine_name + " [" + kinematics::MachineTypeName(prog.machine.type) + "]");
   h.push_back(std::string("CONTROL: ") + DialectTitle(o.dialect));
@@ -173,7 +177,9 @@ std::vector<std::string> HeaderLines(const IrProgram& prog, const GcodeOptions& 
   for (const IrTool& t : prog.tools) {
     std::ostringstream os;
     os << "T" << t.number << " " << t.tool.name << ": " << testpieces::ToolKindName(t.tool.kind);
-    if (t.tool.kind == testpieces::ToolKind::kTurningInsert) {
+    if (t.tool.kind == testpieces::ToolKind::kTouchProbe) {
+      os << ", STYLUS BALL D " << num(t.tool.diameter_mm, 3);
+    } else if (t.tool.kind == testpieces::ToolKind::kTurningInsert) {
       os << ", NOSE R " << num(t.tool.corner_radius_mm, 3) << ", " << num(t.tool.included_angle_deg, 1) << " DEG";
     } else {
       os << ", D " << num(t.tool.diameter_mm, 3);
