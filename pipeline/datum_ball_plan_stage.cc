@@ -52,6 +52,16 @@ Result<std::string> DialectOf(const GcodeRequest& nc) {
                       " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)");
 }
 
+// A program error without a file ("NAME.ngc: N40: rapid target outside ...") is reported at the
+// program's path, without the repeated program name.
+Status LocateProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
+  if (!s.file().empty()) return s;
+  std::string message = s.message();
+  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
+  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
+  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
+}
+
 std::string RotaryColumn(const testpieces::DatumBallPlan& plan) {
   return plan.tilt_axis == kinematics::Axis::kA ? "A_deg" : "B_deg";
 }
@@ -105,7 +115,7 @@ Result<DatumBallPlanResult> RunDatumBallPlanStage(const DatumBallPlanRequest& r)
                                                                         : options.status();
     out.options = *options;
     auto posted = gcode::PostDatumBallProgram(out.plan, *machine, r.probe, out.options);
-    if (!posted.ok()) return posted.status().file().empty() ? posted.status().WithLocation(nc.output) : posted.status();
+    if (!posted.ok()) return LocateProgramError(posted.status(), out.options, nc.output);
     out.files.push_back({nc.output, posted->program_text});
     if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
     out.posted = std::move(posted).value();
