@@ -36,14 +36,14 @@ GRules RulesFor(const GcodeOptions& o) {
   switch (o.dialect) {
     case Dialect::kFanuc:
       r.letters = "NGMXYZABCIJRFSTHP";
-      r.g = {0, 1, 2, 3, 4, 17, 21, 40, 43, 43.4, 49, 54, 55, 56, 57, 58, 59, 80, 85, 90, 92, 93, 94, 95, 96, 97, 98, 99};
+      r.g = {0, 1, 2, 3, 4, 17, 21, 31, 40, 43, 43.4, 49, 54, 55, 56, 57, 58, 59, 80, 85, 90, 92, 93, 94, 95, 96, 97, 98, 99};
       r.m = {3, 4, 5, 6, 7, 8, 9, 30, c.orient_mcode};
       r.decimal_point = true;
       r.upper_comments = true;
       break;
     case Dialect::kLinuxCnc:
       r.letters = "NGMXYZABCIJRFSTHPQE";
-      r.g = {0, 1, 2, 3, 4, 17, 21, 40, 43, 49, 54, 55, 56, 57, 58, 59, 64, 80, 85, 90, 93, 94, 98, 99};
+      r.g = {0, 1, 2, 3, 4, 17, 21, 38.2, 40, 43, 49, 54, 55, 56, 57, 58, 59, 64, 80, 85, 90, 93, 94, 98, 99};
       r.m = {3, 4, 5, 6, 7, 8, 9, 19, 30, 64, 65, 67, 68};
       r.semicolon_comments = true;
       break;
@@ -75,7 +75,7 @@ Status CheckSinumerikKeyword(int line, const std::string& kw, const GcodeOptions
   static const std::regex kScc(R"(SCC\[[XYZ]\])");
   static const std::regex kSpindleM(R"(M(\d)=(3|4|5|70))");
   std::smatch m;
-  if (kw == "TRAORI" || kw == "TRAFOOF" || std::regex_match(kw, kCycle85) || std::regex_match(kw, kSpos) ||
+  if (kw == "TRAORI" || kw == "TRAFOOF" || kw == "MEAS=1" || std::regex_match(kw, kCycle85) || std::regex_match(kw, kSpos) ||
       std::regex_match(kw, kLims) || std::regex_match(kw, kScc)) {
     return Status::Ok();
   }
@@ -158,7 +158,7 @@ Result<DialectCheckReport> CheckGStyle(std::string_view text, const GcodeOptions
       if (w.letter == 'G') {
         const double g = std::strtod(w.value.c_str(), nullptr);
         if (!r.g.count(g)) return BadCheck(line, "G" + w.value + " is not in the " + std::string(DialectName(o.dialect)) + " subset");
-        if (g == 0 || g == 1 || g == 2 || g == 3 || g == 80 || g == 85) ++motion;
+        if (g == 0 || g == 1 || g == 2 || g == 3 || g == 31 || g == 38.2 || g == 80 || g == 85) ++motion;
         if (g == 4) dwell = true;
         if (o.dialect == Dialect::kFanuc && g < 10 && w.value.size() != 2) return BadCheck(line, "Fanuc G codes are written G00..G09");
         continue;
@@ -206,6 +206,8 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
   const std::regex kDwell("CYCL DEF 9\\.1 DWELL " + u);
   const std::regex kSpin("FUNCTION TURNDATA SPIN (VCONST:ON VC:" + u + "( SMAX\\d+)?|VCONST:OFF S\\d+)");
   const std::regex kG(R"((^| )G\d)");
+  const std::regex kProbe0(R"(TCH PROBE 0\.0 REF\. PLANE Q\d+ [XYZ][+-])");
+  const std::regex kProbe1("TCH PROBE 0\\.1 X" + s + " Y" + s + " Z" + s);
   std::set<int> m_ok = {3, 4, 5, 7, 8, 9, 30, 99, 128, 129, o.c_spindle.orient_mcode, o.c_spindle.heidenhain_start_mcode,
                         o.c_spindle.heidenhain_start_mcode + 1};
   if (o.c_spindle.mode_on_mcode >= 0) {
@@ -260,7 +262,8 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     std::smatch m;
     if (std::regex_match(body, kEnd) || std::regex_match(body, kBlk1) || std::regex_match(body, kBlk2) ||
         std::regex_match(body, kTool) || std::regex_match(body, kCC) || std::regex_match(body, kC) ||
-        std::regex_match(body, kAngle) || std::regex_match(body, kDwell) || std::regex_match(body, kSpin)) {
+        std::regex_match(body, kAngle) || std::regex_match(body, kDwell) || std::regex_match(body, kSpin) ||
+        std::regex_match(body, kProbe0) || std::regex_match(body, kProbe1)) {
       continue;
     }
     if (fixed.count(body)) {

@@ -446,6 +446,7 @@ const char* InstrKindName(InstrKind k) {
     case InstrKind::kTableSpinStart: return "table_spin_start";
     case InstrKind::kTableSpinStop: return "table_spin_stop";
     case InstrKind::kDwell: return "dwell";
+    case InstrKind::kProbe: return "probe";
     case InstrKind::kProgramEnd: return "program_end";
   }
   return "?";

@@ -1,7 +1,8 @@
 // The one intermediate representation of a machining program between the test piece
 // (testpieces::Operation / Pass / Move) and the dialect posts: a flat list of instructions
 // (rapid, linear, arc, drill cycle, index A/C, C as a turning spindle, tool change, spindle,
-// coolant, work offset, dwell), each remembering the test-piece move it comes from.
+// coolant, work offset, dwell, touch-probe move), each remembering the test-piece move it comes
+// from. Measuring programs (the datum-ball test, gcode/datum_ball_program.h) use the same IR.
 //
 // Coordinates are those of the test piece's moves (kinematics/conventions.h): X, Y, Z place the
 // tool reference point in the MCS, whose origin is the work offset's origin (seed 002: the
@@ -35,6 +36,7 @@ enum class InstrKind {
   kTableSpinStart,  // C table as a turning spindle, see TableSpin
   kTableSpinStop,   // C back to axis mode; its position is unknown afterwards
   kDwell,           // dwell_s
+  kProbe,           // touch-probe move from `start` toward `end` along probe.direction, see ProbeMove
   kProgramEnd,
 };
 const char* InstrKindName(InstrKind k);
@@ -72,6 +74,15 @@ struct TableSpin {
   double feed_mm_per_rev = 0.0;
 };
 
+// One touch of a touch probe: a feed move from `start` (the approach point) toward `end` (the
+// expected contact plus an overtravel) that stops when the stylus triggers (LinuxCNC G38.2, Fanuc
+// G31, Sinumerik MEAS=1, Heidenhain TCH PROBE 0). Machine axes, one linear axis moving.
+struct ProbeMove {
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, machine frame: the probing direction
+  Eigen::Vector3d contact_mm = Eigen::Vector3d::Zero();  // tool reference point at the nominal contact
+  int result = 0;  // 1-based touch number within its position (Heidenhain result parameter Q<n>)
+};
+
 struct Instr {
   InstrKind kind = InstrKind::kRapid;
   kinematics::AxisState start;  // motion: axis commands before and after (IR coordinates)
@@ -93,6 +104,7 @@ struct Instr {
 
   DrillCycle drill;
   TableSpin spin;
+  ProbeMove probe;
   double spindle_rpm = 0.0;
   bool spindle_clockwise = true;
   int tool_index = -1;          // into IrProgram::tools (kToolChange, kOperationStart)
@@ -113,6 +125,7 @@ struct IrTool {
 
 struct IrProgram {
   std::string piece_name;
+  std::string instrument;      // measuring program: what it measures ("" for a test piece)
   testpieces::PieceKind kind = testpieces::PieceKind::kTurning;
   std::string standard;        // the clause the program implements
   std::string machine_name;

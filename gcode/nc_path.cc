@@ -68,6 +68,7 @@ NcPath ExpectedPath(const IrProgram& prog) {
         break;
       }
       case InstrKind::kLinear:
+      case InstrKind::kProbe:  // as far as the target when nothing is touched (rs274's STRAIGHT_PROBE)
         add(PathMoveKind::kFeed, Axes(in.end));
         break;
       case InstrKind::kArc: {

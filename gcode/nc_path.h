@@ -31,6 +31,7 @@ struct PathMove {
   double center1_mm = 0.0, center2_mm = 0.0;
   int rotation = 0;
   std::string label;  // block label ("N120", Heidenhain line "37")
+  bool probe = false; // a probing feed (rs274 STRAIGHT_PROBE): it stops on contact
 };
 
 struct NcPath {
@@ -40,7 +41,8 @@ struct NcPath {
 };
 
 // The path the IR commands (rapids, feeds, arcs; drill cycles expanded as G85 with G98 / G99;
-// table-turning moves as one straight feed each), in machine axes, starting at the origin.
+// table-turning moves as one straight feed each; probe moves as a feed to their target), in
+// machine axes, starting at the origin.
 NcPath ExpectedPath(const IrProgram& prog);
 
 // A path point in the part frame.

@@ -41,6 +41,9 @@ class FanucPost : public GStylePost {
     ForgetFeed();
   }
 
+  // G31 skip function (one shot): feed toward the target, stop on the skip signal (#5061..).
+  void Probe(const Instr& in) override { ProbeBlock(G(31), in); }
+
   void SpinStart(const TableSpin& spin, bool restart) override {
     if (!restart) {
       Block(M(o_.c_spindle.orient_mcode));

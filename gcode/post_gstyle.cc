@@ -47,6 +47,13 @@ void GStylePost::MotionBlock(const std::string& gcode, const Instr& in, unsigned
   Block(body);
 }
 
+void GStylePost::ProbeBlock(const std::string& prefix, const Instr& in) {
+  ForgetAxes(0x7);
+  Block(prefix + " " + AxisWords(in.end, 0x7) + " " + FeedWord("F", in.feed_mm_per_min, 3, /*force=*/true));
+  ForgetAxes(0x7);
+  ForgetFeed();
+}
+
 void GStylePost::TurnFeed(const Instr& in) {
   std::string g = G(1);
   const std::string mode = FeedModeWord(FeedMode::kPerRevolution);
@@ -135,6 +142,9 @@ void GStylePost::Emit(const Instr& in) {
       break;
     case InstrKind::kDwell:
       Dwell(in.dwell_s);
+      break;
+    case InstrKind::kProbe:
+      Probe(in);
       break;
     case InstrKind::kProgramEnd:
       SetTcp(false);

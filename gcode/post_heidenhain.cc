@@ -184,11 +184,31 @@ class HeidenhainPost : public PostBase {
         Block("CYCL DEF 9.0 DWELL TIME");
         Block("CYCL DEF 9.1 DWELL " + F(in.dwell_s, 3));
         break;
+      case InstrKind::kProbe:
+        Probe(in);
+        break;
       case InstrKind::kProgramEnd:
         SetTcp(false);
         Block("M30");
         break;
     }
+  }
+
+  // Touch probe cycle 0 (REF. PLANE): rapid to the pre-positioning point (TCH PROBE 0.1, the
+  // approach point), probe along one axis at the probe table's feed, store the coordinate in Q<n>,
+  // retract to the pre-positioning point. The probing distance is the probe table's DIST.
+  void Probe(const Instr& in) {
+    const Eigen::Vector3d& d = in.probe.direction;
+    int axis = 0;
+    d.cwiseAbs().maxCoeff(&axis);
+    if (std::abs(std::abs(d[axis]) - 1.0) > 1e-12) {
+      Fail({StatusCode::kInvalidArgument, "Heidenhain: touch probe cycle 0 probes along one machine axis only"});
+      return;
+    }
+    Block("TCH PROBE 0.0 REF. PLANE Q" + std::to_string(in.probe.result) + " " + std::string(1, "XYZ"[axis]) +
+          (d[axis] > 0 ? "+" : "-"));
+    Block("TCH PROBE 0.1 " + AxisWords(in.start, 0x7, /*force=*/true));
+    ForgetFeed();
   }
 
   void End() override { Plain("END " + PgmLine()); }

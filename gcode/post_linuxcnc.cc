@@ -38,6 +38,9 @@ class LinuxCncPost : public GStylePost {
     ForgetFeed();
   }
 
+  // G38.2: probe toward the target, stop on contact, error if none (the contact is in #5061..#5063).
+  void Probe(const Instr& in) override { ProbeBlock(G(38) + ".2", in); }
+
   double Signed(double rpm) const { return spin_.positive_c ? rpm : -rpm; }
 
   // C as a spindle through motion I/O (rs274 has one spindle and no table turning): M19 holds

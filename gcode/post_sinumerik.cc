@@ -39,6 +39,9 @@ class SinumerikPost : public GStylePost {
     ForgetFeed();
   }
 
+  // MEAS=1: measuring with delete distance-to-go on probe 1's rising edge ($AA_MM / $AA_MW).
+  void Probe(const Instr& in) override { ProbeBlock("MEAS=1 G1", in); }
+
   // SPOS holds the tool spindle; the table spindle becomes the master (SETMS) for S, M3/M4,
   // G96 (with LIMS and the transverse axis SCC) and G95.
   void SpinStart(const TableSpin& spin, bool restart) override {

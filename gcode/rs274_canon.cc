@@ -73,14 +73,16 @@ Result<Rs274Listing> ParseRs274Listing(std::string_view text) {
     if (label.find_first_not_of('.', 1) == std::string::npos) label.clear();  // "N....."
     out.calls.emplace_back(label, call);
     bool ok = true;
-    if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED") {
+    if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" || name == "STRAIGHT_PROBE") {
       const std::vector<double> v = Numbers(args, &ok);
       if (!ok || v.size() < 6) return bad("expected 6 numbers");
       PathMove m;
       m.kind = name == "STRAIGHT_TRAVERSE" ? PathMoveKind::kRapid : PathMoveKind::kFeed;
       for (int i = 0; i < 6; ++i) m.end[i] = v[i];
       m.label = label;
+      m.probe = name == "STRAIGHT_PROBE";
       out.path.moves.push_back(m);
+      if (m.probe) out.probes.push_back(m);
     } else if (name == "ARC_FEED") {
       const std::vector<double> v = Numbers(args, &ok);
       if (!ok || v.size() < 9) return bad("expected 9 numbers");

@@ -7,7 +7,8 @@
 // one call per line: a sequence number, the block's N number ("N....." when the block has
 // none), the call. Positions are in the PROGRAM's length units (mm after G21), rotary axes in
 // degrees, work offsets applied, the tool length offset NOT applied (it is reported by
-// USE_TOOL_LENGTH_OFFSET). STRAIGHT_TRAVERSE / STRAIGHT_FEED print X, Y, Z, A, B, C; ARC_FEED
+// USE_TOOL_LENGTH_OFFSET). STRAIGHT_TRAVERSE / STRAIGHT_FEED / STRAIGHT_PROBE (G38.2: without a
+// probe the move reaches its target) print X, Y, Z, A, B, C; ARC_FEED
 // prints (first_end, second_end, first_axis, second_axis, rotation, axis_end_point, A, B, C) in
 // the active plane's axes: XY as (X, Y), XZ as (Z, X), YZ as (Y, Z). The interpreter has no
 // error line format on stdout: errors go to stderr and stop the run (rc 1) unless `-n 0`, which
@@ -28,6 +29,7 @@ struct Rs274Listing {
   std::vector<std::string> comments;         // COMMENT("...") texts
   std::vector<double> tool_length_offsets_mm;  // Z of every USE_TOOL_LENGTH_OFFSET
   std::vector<std::pair<std::string, std::string>> calls;  // (label, call) of every line
+  std::vector<PathMove> probes;              // STRAIGHT_PROBE targets (also in `path`, as feeds)
   bool program_end = false;                  // PROGRAM_END() seen
   int dwells = 0;
 };

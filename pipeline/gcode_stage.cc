@@ -28,6 +28,25 @@ std::string TodayUtc() {
   return buf;
 }
 
+// A post error without a file: a safety violation ("NAME.ngc: N1050: rapid move ...") is
+// reported at PROGRAM with a hint; option errors ("tools: ...") belong to the post file.
+Status LocatePostError(const GcodeRequest& args, const gcode::GcodeOptions& options, Status s) {
+  if (!s.file().empty()) return s;
+  std::string message = s.message();
+  const std::string posted_name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
+  const bool safety_violation = message.rfind(posted_name, 0) == 0;
+  if (safety_violation) {
+    message.erase(0, posted_name.size());
+    message +=
+        "\ntpcal gcode: nothing written. The safety checks (strokes, rapids vs stock, tool fit) are "
+        "described in gcode/DIALECTS.md; --skip-check NAME switches one off at your own risk.";
+  }
+  const bool post_key = !args.post_path.empty() && message.rfind("tools:", 0) == 0;
+  return Status(s.code(), message, post_key ? args.post_path : args.output);
+}
+
+}  // namespace
+
 Result<gcode::GcodeOptions> GcodeOptionsFor(const GcodeRequest& args) {
   const auto dialect = gcode::DialectFromName(args.dialect);
   if (!dialect) {
@@ -76,24 +95,6 @@ Result<gcode::GcodeOptions> GcodeOptionsFor(const GcodeRequest& args) {
   return o;
 }
 
-// A post error without a file: a safety violation ("NAME.ngc: N1050: rapid move ...") is
-// reported at PROGRAM with a hint; option errors ("tools: ...") belong to the post file.
-Status LocatePostError(const GcodeRequest& args, const gcode::GcodeOptions& options, Status s) {
-  if (!s.file().empty()) return s;
-  std::string message = s.message();
-  const std::string posted_name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
-  const bool safety_violation = message.rfind(posted_name, 0) == 0;
-  if (safety_violation) {
-    message.erase(0, posted_name.size());
-    message +=
-        "\ntpcal gcode: nothing written. The safety checks (strokes, rapids vs stock, tool fit) are "
-        "described in gcode/DIALECTS.md; --skip-check NAME switches one off at your own risk.";
-  }
-  const bool post_key = !args.post_path.empty() && message.rfind("tools:", 0) == 0;
-  return Status(s.code(), message, post_key ? args.post_path : args.output);
-}
-
-// A missing or read-only output directory is found before the first file is written.
 Status CheckWritableDirectories(const std::vector<GcodeFile>& files) {
   for (const GcodeFile& f : files) {
     const std::filesystem::path parent = std::filesystem::path(f.path).parent_path();
@@ -104,8 +105,6 @@ Status CheckWritableDirectories(const std::vector<GcodeFile>& files) {
   }
   return Status::Ok();
 }
-
-}  // namespace
 
 std::string ProgramNameOf(const std::string& output) {
   std::string stem = std::filesystem::path(output).stem().string();

@@ -37,6 +37,14 @@ struct GcodeStageResult {
   std::vector<GcodeFile> files;  // the program first
 };
 
+// The post options of a request (dialect defaults or the --post file, program name from the
+// output's stem, header date, generator, skipped checks). Errors: "tpcal gcode: --FLAG: ..." for a
+// bad dialect, date or check name; post file errors (file:line).
+Result<gcode::GcodeOptions> GcodeOptionsFor(const GcodeRequest& request);
+
+// kIoError at the first file whose directory is missing or not writable (checked before any write).
+Status CheckWritableDirectories(const std::vector<GcodeFile>& files);
+
 // Program name from the output file's stem: [A-Z0-9_], starting with a letter, 24 characters.
 std::string ProgramNameOf(const std::string& output);
 

@@ -53,6 +53,7 @@ const char* ToolKindName(ToolKind k) {
     case ToolKind::kFaceMill: return "face_mill";
     case ToolKind::kReamer: return "reamer";
     case ToolKind::kTurningInsert: return "turning_insert";
+    case ToolKind::kTouchProbe: return "touch_probe";
   }
   return "?";
 }

@@ -28,8 +28,9 @@ enum class ToolKind {
   kFaceMill,        // face mill with inserts; cuts with its flat end
   kReamer,          // finishes a hole while feeding along its axis
   kTurningInsert,   // non-rotating turning tool, nose radius corner_radius_mm
+  kTouchProbe,      // spindle touch probe: diameter_mm is its stylus ball's (measuring programs)
 };
-const char* ToolKindName(ToolKind k);  // "end_mill", "face_mill", "reamer", "turning_insert"
+const char* ToolKindName(ToolKind k);  // "end_mill", "face_mill", "reamer", "turning_insert", "touch_probe"
 
 struct Tool {
   int number = 1;                  // T number in the NC program

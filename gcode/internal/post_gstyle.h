@@ -23,6 +23,8 @@ class GStylePost : public PostBase {
   virtual void ToolChange(const IrTool& tool) = 0;
   virtual std::string LengthCompWords(const IrTool& tool) const = 0;  // with the first Z rapid
   virtual void Cycle(const Instr& in) = 0;
+  // One touch-probe move (InstrKind::kProbe): the dialect's probing block toward in.end.
+  virtual void Probe(const Instr& in) = 0;
   // `restart`: the table already spins (a new pass needs another radius axis or speed).
   virtual void SpinStart(const TableSpin& spin, bool restart) = 0;
   virtual void SpinStop() = 0;
@@ -38,6 +40,9 @@ class GStylePost : public PostBase {
   std::string FeedModeWord(FeedMode m);
   void SetTcp(bool on);
   void MotionBlock(const std::string& gcode, const Instr& in, unsigned mask, const std::string& feed);
+  // "<prefix> <axis words of in.end> F<feed>" with every linear word written; afterwards the
+  // linear axes are unknown (the probe stops where it touches) and the feed is forgotten.
+  void ProbeBlock(const std::string& prefix, const Instr& in);
 
   int tool_ = -1;              // index of the tool in the spindle
   bool length_pending_ = false;
