@@ -5,9 +5,11 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <utility>
 
+#include "core/portable_random.h"
 #include "core/units.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/forward_kinematics.h"
@@ -37,17 +39,22 @@ Eigen::Matrix3d CommandJacobian(const MachineModel& model, const ErrorState& err
 }
 
 // The linearised problem at the current errors and ball centre: rows 3 per reading (um), columns
-// the active coefficients (display units) then the ball centre (um) when fitted.
+// the active coefficients (display units) then the ball centre (um) when fitted. J_params, J_ball
+// and residual are whitened (each reading's rows divided by its weight's u, 1 when unweighted).
 struct BallDesign {
   Eigen::MatrixXd J_params, J_ball;
+  Eigen::VectorXd residual;     // whitened
   Eigen::VectorXd residual_um;  // measured - model command
 };
 
+// 1 / u per reading (all ones when unweighted).
+using ReadingWeights = std::vector<double>;
+
 Result<BallDesign> LineariseReadings(const MachineModel& model, const ErrorState& errors, const ActiveSet& active,
                                      const std::vector<double>& scales, std::span<const BallReading> readings,
-                                     const Eigen::Vector3d& ball_mm) {
+                                     const ReadingWeights& weights, const Eigen::Vector3d& ball_mm) {
   const Eigen::Index n = static_cast<Eigen::Index>(readings.size()), q = active.size();
-  BallDesign d{Eigen::MatrixXd(3 * n, q), Eigen::MatrixXd(3 * n, 3), Eigen::VectorXd(3 * n)};
+  BallDesign d{Eigen::MatrixXd(3 * n, q), Eigen::MatrixXd(3 * n, 3), Eigen::VectorXd(3 * n), Eigen::VectorXd(3 * n)};
   Workspace ws;
   for (Eigen::Index i = 0; i < n; ++i) {
     const BallReading& r = readings[static_cast<std::size_t>(i)];
@@ -60,6 +67,10 @@ Result<BallDesign> LineariseReadings(const MachineModel& model, const ErrorState
       d.J_params.block<3, 1>(3 * i, k) = -MmToUm(1.0) * (A_inv * Jp.col(k)) / scales[static_cast<std::size_t>(k)];
     d.J_ball.block<3, 3>(3 * i, 0) = A_inv;
     d.residual_um.segment<3>(3 * i) = MmToUm(1.0) * (r.command_mm - *cmd);
+    const double w = weights[static_cast<std::size_t>(i)];
+    d.J_params.middleRows(3 * i, 3) *= w;
+    d.J_ball.middleRows(3 * i, 3) *= w;
+    d.residual.segment<3>(3 * i) = w * d.residual_um.segment<3>(3 * i);
   }
   return d;
 }
@@ -147,6 +158,35 @@ void FillIdentifiability(const std::vector<std::string>& names, const Directions
   for (Eigen::Index j = 0; j < dir.V_null.cols(); ++j) id->null_directions.push_back(combination(dir.V_null.col(j)));
 }
 
+// The weights of the readings: all u_um > 0 (weighted), all 0 (unweighted), else an error.
+Result<ReadingWeights> WeightsOf(std::span<const BallReading> readings, bool* weighted) {
+  *weighted = !readings.empty() && readings.front().u_um != 0.0;
+  ReadingWeights w;
+  for (const BallReading& r : readings) {
+    if (!std::isfinite(r.u_um) || r.u_um < 0.0 || (r.u_um != 0.0) != *weighted)
+      return Status(StatusCode::kInvalidArgument,
+                    "datum ball: u_um " + std::to_string(r.u_um) +
+                        ": expected > 0 for every reading (weights) or for none",
+                    "", r.line);
+    w.push_back(*weighted ? 1.0 / r.u_um : 1.0);
+  }
+  return w;
+}
+
+// Monte Carlo: `runs` whitened noise vectors (sd `noise_scale` per row) mapped through the
+// least-squares solution of Z (linearised at the solution) onto the coefficients: q x runs
+// deviations from the solution, display units.
+Eigen::MatrixXd MonteCarloDeviations(const Eigen::MatrixXd& Z, const Eigen::MatrixXd& V_r, double noise_scale, int runs,
+                                     std::uint64_t seed) {
+  const Eigen::MatrixXd solve = Z.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(Z.rows(), Z.rows()));
+  const Eigen::MatrixXd map = V_r * solve.topRows(V_r.cols());
+  std::mt19937_64 rng(seed);
+  Eigen::MatrixXd noise(Z.rows(), runs);
+  for (int t = 0; t < runs; ++t)
+    for (Eigen::Index i = 0; i < Z.rows(); ++i) noise(i, t) = noise_scale * StandardNormal(rng);
+  return map * noise;
+}
+
 }  // namespace
 
 Result<Eigen::Vector3d> BallCentreCommand(const MachineModel& model, const ErrorState& errors,
@@ -166,6 +206,11 @@ Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<c
                                           const DatumBallOptions& options) {
   if (!model.HasAxis(Axis::kC))
     return Status(StatusCode::kInvalidArgument, "datum ball: the machine has no C table");
+  if (options.monte_carlo_runs < 0 || options.monte_carlo_runs == 1)
+    return Status(StatusCode::kInvalidArgument, "datum ball: monte_carlo_runs must be 0 (off) or >= 2");
+  bool weighted = false;
+  auto weights = WeightsOf(readings, &weighted);
+  if (!weights.ok()) return weights.status();
   ErrorState errors(model);
   auto active = ActivateParameters(model, &errors, options.parameters.empty() ? IsoLocationSet(model) : options.parameters);
   if (!active.ok()) return active.status();
@@ -193,30 +238,39 @@ Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<c
   Eigen::MatrixXd Z;
   for (out.iterations = 1; out.iterations <= options.max_iterations; ++out.iterations) {
     SetParams(*active, scales, theta, &errors);
-    auto lin = LineariseReadings(model, errors, *active, scales, readings, ball);
+    auto lin = LineariseReadings(model, errors, *active, scales, readings, *weights, ball);
     if (!lin.ok()) return lin.status();
     d = std::move(*lin);
     if (out.iterations == 1) out.rms_before_um = std::sqrt(d.residual_um.squaredNorm() / static_cast<double>(n_rows));
     dir = SplitDirections(d, fit_ball, options.rank_tolerance);
     if (dir.V_r.cols() == 0) return Status(StatusCode::kNotIdentifiable, "datum ball: no error is identifiable from these readings");
     Z = ReducedDesign(d, dir, fit_ball);
-    const Eigen::VectorXd step = Z.colPivHouseholderQr().solve(d.residual_um);
+    const Eigen::VectorXd step = Z.colPivHouseholderQr().solve(d.residual);
     theta += dir.V_r * step.head(dir.V_r.cols());
     if (fit_ball) ball += UmToMm(1.0) * step.tail(3);
     if (step.norm() < 1e-7) break;
   }
   // At the solution: residuals, sigma and the uncertainties.
   SetParams(*active, scales, theta, &errors);
-  auto lin = LineariseReadings(model, errors, *active, scales, readings, ball);
+  auto lin = LineariseReadings(model, errors, *active, scales, readings, *weights, ball);
   if (!lin.ok()) return lin.status();
   d = std::move(*lin);
   Z = ReducedDesign(d, dir, fit_ball);
   const double dof = static_cast<double>(n_rows - Z.cols());
   out.sigma_um = std::sqrt(d.residual_um.squaredNorm() / dof);
   out.rms_after_um = std::sqrt(d.residual_um.squaredNorm() / static_cast<double>(n_rows));
-  const Eigen::MatrixXd C = out.sigma_um * out.sigma_um * (Z.transpose() * Z).inverse();
+  out.weighted = weighted;
+  if (weighted) out.chi_scale = std::sqrt(d.residual.squaredNorm() / dof);
+  const double scale = weighted ? out.chi_scale : out.sigma_um;
+  const Eigen::MatrixXd C = scale * scale * (Z.transpose() * Z).inverse();
   const Eigen::MatrixXd cov = dir.V_r * C.topLeftCorner(dir.V_r.cols(), dir.V_r.cols()) * dir.V_r.transpose();
-  const Eigen::VectorXd jack = options.jackknife ? JackknifeReadings(Z, d.residual_um, dir.V_r) : Eigen::VectorXd();
+  const Eigen::VectorXd jack = options.jackknife ? JackknifeReadings(Z, d.residual, dir.V_r) : Eigen::VectorXd();
+  // Noise of the re-simulated readings: u_um (whitened: 1) when weighted, else the fitted sigma.
+  out.monte_carlo_runs = options.monte_carlo_runs;
+  const Eigen::MatrixXd mc = options.monte_carlo_runs > 0
+                                 ? MonteCarloDeviations(Z, dir.V_r, weighted ? 1.0 : out.sigma_um,
+                                                        options.monte_carlo_runs, options.monte_carlo_seed)
+                                 : Eigen::MatrixXd();
   FillIdentifiability(names, dir, theta, cov, &out.identifiability);
   for (Eigen::Index k = 0; k < q; ++k) {
     ParameterEstimate p;
@@ -230,6 +284,8 @@ Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<c
     p.uncertainties.push_back(MakeUncertainty(UncertaintyMethod::kAnalytic, p.value, std::sqrt(cov(k, k)), dof));
     if (options.jackknife)
       p.uncertainties.push_back(MakeUncertainty(UncertaintyMethod::kJackknifePoints, p.value, jack(k), dof));
+    if (mc.size() > 0)
+      p.uncertainties.push_back(MonteCarloUncertainty(p.value, std::vector<double>(mc.row(k).begin(), mc.row(k).end())));
     p.u = p.uncertainties.front().u;
     p.ci95_low = p.uncertainties.front().ci95_low, p.ci95_high = p.uncertainties.front().ci95_high;
     out.parameters.push_back(std::move(p));

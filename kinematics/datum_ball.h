@@ -15,9 +15,23 @@
 // uncertainty as kinematics::Identify does (identification.h: columns in display units, the
 // nuisance projected out, rank tolerance 1e-3); jackknife over readings (delete one reading,
 // linearised at the solution).
+//
+// Weights. When every reading has u_um > 0 (the standard uncertainty of each of its three
+// coordinates), the residuals are divided by it (weighted least squares, rows whitened); sigma is
+// then the chi-like scale sqrt(sum (r / u)^2 / dof) (about 1 when the u_um are right) and the
+// analytic covariance is scale^2 (J^T W J)^-1.
+//
+// Monte Carlo (monte_carlo_runs > 0): readings re-simulated as the model at the solution plus
+// Gaussian noise (sd: the fitted sigma, or each reading's u_um when weighted, with no scale) are
+// re-identified by the least-squares map linearised at the solution (one Gauss-Newton step from
+// it: the centring commands are linear in the errors to well below 1e-3 um over micrometre noise,
+// see datum_ball_test.cc); u = the standard deviation of the re-identified values, 95 % interval
+// from their quantiles (MonteCarloUncertainty). Draws: std::mt19937_64(monte_carlo_seed),
+// StandardNormal (core/portable_random.h), reading by reading, x, y, z.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -35,6 +49,7 @@ struct BallReading {
   AxisState rotary;                 // rotary commands (and t_s); the linear members are ignored
   Eigen::Vector3d command_mm = Eigen::Vector3d::Zero();  // measured X, Y, Z centring the probe
   std::size_t line = 0;             // source line (0: none)
+  double u_um = 0.0;                // standard uncertainty of each coordinate, um (0: not given)
 };
 
 // The linear commands (mm) that put the tool point on `ball_part_mm` at `rotary` under `errors`.
@@ -48,22 +63,29 @@ struct DatumBallOptions {
   double rank_tolerance = 1e-3;                   // as IdentifyOptions::rank_tolerance
   int max_iterations = 10;
   bool jackknife = true;                          // delete-one-reading jackknife beside analytic
+  int monte_carlo_runs = 200;                     // Monte Carlo re-identifications; 0 = off, else >= 2
+  std::uint64_t monte_carlo_seed = 1;             // std::mt19937_64 seed of the Monte Carlo noise
 };
 
 struct DatumBallResult {
   explicit DatumBallResult(ErrorState base) : fitted(std::move(base)) {}
-  std::vector<ParameterEstimate> parameters;  // primary: analytic; uncertainties: analytic, jackknife
+  // Primary: analytic; uncertainties: analytic, jackknife_points (if on), monte_carlo (if on).
+  std::vector<ParameterEstimate> parameters;
   Identifiability identifiability;
   ErrorState fitted;
   Eigen::Vector3d ball_part_mm = Eigen::Vector3d::Zero();  // fitted (or given)
   Eigen::Vector3d ball_u_um = Eigen::Vector3d::Zero();     // analytic, k = 1 (0 when given)
   std::vector<Eigen::Vector3d> residuals_um;  // per reading: measured - model command
-  double rms_before_um = 0.0, rms_after_um = 0.0, sigma_um = 0.0;
+  double rms_before_um = 0.0, rms_after_um = 0.0;  // of the residuals, um (unweighted)
+  double sigma_um = 0.0;     // sqrt(SSR / dof) of the unweighted residuals, um
+  bool weighted = false;     // the readings' u_um were used as weights
+  double chi_scale = 0.0;    // weighted: sqrt(sum (r / u)^2 / dof), the scale of the analytic u; else 0
+  int monte_carlo_runs = 0;  // done (0: off)
   int iterations = 0;
 };
 
 // Errors: kInvalidArgument (a parameter unknown to the machine, a machine without rotary axes,
-// options), kTooFewPoints (3 x readings <= parameters + nuisance), kNotIdentifiable (nothing
+// options, u_um < 0 or not finite, or given for some readings and not others: the line named), kTooFewPoints (3 x readings <= parameters + nuisance), kNotIdentifiable (nothing
 // identifiable), kNotConverged (a reading the model cannot centre, its line named).
 Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<const BallReading> readings,
                                           const DatumBallOptions& options = {});

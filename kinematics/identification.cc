@@ -230,6 +230,27 @@ Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double 
   return out;
 }
 
+Uncertainty MonteCarloUncertainty(double value, std::vector<double> draws) {
+  Uncertainty out;
+  out.method = UncertaintyMethod::kMonteCarlo;
+  if (draws.size() < 2) {
+    out.message = "fewer than 2 Monte Carlo draws";
+    return out;
+  }
+  std::sort(draws.begin(), draws.end());
+  double mean = 0, ss = 0;
+  for (double d : draws) mean += d;
+  mean /= static_cast<double>(draws.size());
+  for (double d : draws) ss += (d - mean) * (d - mean);
+  out.available = true;
+  out.u = std::sqrt(ss / static_cast<double>(draws.size() - 1));
+  const auto lo = static_cast<std::size_t>(std::floor(0.025 * static_cast<double>(draws.size())));
+  const auto hi = std::min(draws.size() - 1, static_cast<std::size_t>(std::ceil(0.975 * static_cast<double>(draws.size()))));
+  out.ci95_low = value + draws[lo];
+  out.ci95_high = value + draws[hi];
+  return out;
+}
+
 const char* UncertaintyMethodName(UncertaintyMethod m) {
   switch (m) {
     case UncertaintyMethod::kAnalytic: return "analytic";
@@ -627,23 +648,9 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
         p.uncertainties.push_back(ug);
       }
       if (mc.size() > 0) {
-        std::vector<double> draws(mc.row(k).data(), mc.row(k).data() + 0);
-        draws.resize(static_cast<std::size_t>(mc.cols()));
-        for (Eigen::Index t = 0; t < mc.cols(); ++t) draws[t] = mc(k, t);
-        std::sort(draws.begin(), draws.end());
-        double mean = 0, ss = 0;
-        for (double d : draws) mean += d;
-        mean /= static_cast<double>(draws.size());
-        for (double d : draws) ss += (d - mean) * (d - mean);
-        Uncertainty um;
-        um.method = UncertaintyMethod::kMonteCarlo;
-        um.available = true;
-        um.u = std::sqrt(ss / static_cast<double>(draws.size() - 1));
-        const auto lo = static_cast<std::size_t>(std::floor(0.025 * static_cast<double>(draws.size())));
-        const auto hi = std::min(draws.size() - 1, static_cast<std::size_t>(std::ceil(0.975 * static_cast<double>(draws.size()))));
-        um.ci95_low = p.value + draws[lo];
-        um.ci95_high = p.value + draws[hi];
-        p.uncertainties.push_back(um);
+        std::vector<double> draws(static_cast<std::size_t>(mc.cols()));
+        for (Eigen::Index t = 0; t < mc.cols(); ++t) draws[static_cast<std::size_t>(t)] = mc(k, t);
+        p.uncertainties.push_back(MonteCarloUncertainty(p.value, std::move(draws)));
       }
       if (options.random_subset_trials > 0) {
         Uncertainty us;

@@ -109,6 +109,11 @@ struct Uncertainty {
 // `u` (k = 1) by method `m` with its 95 % interval value -+ t(0.975, nu) u; available when u is finite.
 Uncertainty MakeUncertainty(UncertaintyMethod m, double value, double u, double nu);
 
+// Monte Carlo (GUM S1) from `draws`, the re-identified values minus `value` (display units): u =
+// their standard deviation, 95 % interval value + their 2.5 / 97.5 % quantiles; not available
+// (message) with fewer than 2 draws.
+Uncertainty MonteCarloUncertainty(double value, std::vector<double> draws);
+
 struct ParameterEstimate {
   std::string name;        // coefficient name (ErrorState), e.g. "dx_CR(0)", "E_XC@A=0.cos2"
   std::string iso_symbol;  // ISO 230-1 symbol or relation (catalog), "" if none

@@ -66,6 +66,7 @@ Result<DatumBallReport> RunDatumBallStage(const DatumBallRequest& r) {
     b.rotary.t_s = row.t_s;
     b.command_mm = row.centre_mm;
     b.line = row.line;
+    b.u_um = row.u_um;
     readings.push_back(b);
     lines.push_back(row.line);
   }

@@ -6,7 +6,6 @@
 // decimals): identified within 4 u of the truth (u from the rounding, about 0.03 um).
 #include "pipeline/datum_ball_stage.h"
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +20,7 @@
 #include "kinematics/datum_ball.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
+#include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/io/ballpos_reader.h"
 
 namespace tpcal::pipeline {
@@ -32,7 +32,8 @@ const std::map<std::string, double> kTruth = {
 
 const std::string kSample = std::string(TPCAL_SOURCE_DIR) + "/samples/datum_ball/table1a_ballpos.csv";
 
-// The sample's text: the centring commands of the truth, 4 decimals (0.1 um).
+// The sample's text: the virtual instrument (pipeline/datum_ball_simulate_stage.h) on the truth,
+// noise-free, seed 001's default plan (B = 0, 30, -30 deg, C every 30 deg, ball (200, 0.1, 300)).
 std::string SampleText() {
   auto m = kinematics::MakeMachine(kinematics::MachineType::kBcTable);
   EXPECT_TRUE(m.ok());
@@ -42,16 +43,9 @@ std::string SampleText() {
     EXPECT_TRUE(info.ok());
     EXPECT_TRUE(e.SetParameter(*m, name, info->quantity == kinematics::Quantity::kAngle ? v * 1e-6 : UmToMm(v)).ok());
   }
-  std::string out = "# tpcal ballpos v1\n# units: mm\nB_deg,C_deg,x,y,z\n";
-  for (int b : {0, 30, -30})
-    for (int c = 0; c < 360; c += 30) {
-      kinematics::AxisState rotary;
-      rotary.b_rad = DegToRad(b), rotary.c_rad = DegToRad(c);
-      auto cmd = kinematics::BallCentreCommand(*m, e, rotary, Eigen::Vector3d(200.0, 0.1, 300.0));
-      EXPECT_TRUE(cmd.ok());
-      out += fmt::format("{},{},{:.4f},{:.4f},{:.4f}\n", b, c, cmd->x(), cmd->y(), cmd->z());
-    }
-  return out;
+  auto sim = SimulateDatumBall(*m, e, DatumBallSimRequest{});
+  EXPECT_TRUE(sim.ok()) << sim.status().ToString();
+  return sim.ok() ? sim->csv : std::string();
 }
 
 // TPCAL_REGENERATE_SAMPLES=1 rewrites the sample from the model (then the test compares it again).

@@ -5,36 +5,17 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <vector>
 
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/io/point_io.h"
+#include "pipeline/truth_yaml_text.h"
 #include "testpieces/piece_config.h"
 #include "testpieces/process_effects_yaml.h"
 
 namespace tpcal::pipeline {
 namespace {
-
-std::string TruthNum(double v) { return fmt::format("{:.17g}", v == 0.0 ? 0.0 : v); }
-
-// A YAML flow string, quoted when it could be read as something else.
-std::string TruthStr(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out.push_back('\\');
-    out.push_back(c);
-  }
-  return out + "\"";
-}
-
-std::string IndentLines(const std::string& text, const std::string& pad) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) out += line.empty() ? "\n" : pad + line + "\n";
-  return out;
-}
 
 std::string RigidYaml(const Rigid3& t) {
   const Eigen::Matrix3d r = t.linear();

@@ -81,7 +81,9 @@ Command RegisterIdentify(CLI::App& app) {
                   "datum_ball: POINTS holds datum-ball centres at rotary commands (touch probe, R-test); the location "
                   "errors of the rotary axes and the squareness of the linear axes (seed 001) are identified, the "
                   "ball centre fitted as a nuisance; --machine is the B/C or A/C table (default: the nominal one "
-                  "the file's rotary columns name)")
+                  "the file's rotary columns name); a u_um column weights each reading (residual / u_um); u by "
+                  "analytic, jackknife and Monte Carlo (200 re-identifications, seed 1). `tpcal simulate "
+                  "--instrument datum_ball` writes such a file")
       ->check(CLI::IsMember({"datum_ball"}));
   sub->add_option("--errors-out", args->errors_out,
                   "with --instrument: also write the identified errors as tpcal.errors/1 (for simulate --errors and "

@@ -1,17 +1,26 @@
 // tpcal simulate --testpiece NAME --machine M.yaml --errors E.yaml [--process P.yaml] [--config TP.yaml]
 //                [--density ...] [--noise-um S] [--seed N] [--placement datum|random]
 //                [--probe-radius-error-um R] -o POINTS.csv [--truth TRUTH.yaml]
+// tpcal simulate --instrument datum_ball [--machine M.yaml] --errors E.yaml [--noise-um S] [--seed N]
+//                [--tilt-deg T,...] [--c-step-deg D] [--ball X,Y,Z] [--seconds-per-position S]
+//                -o BALLPOS.csv [--truth TRUTH.yaml]
 //
-// Virtual machining and measurement of a test piece (pipeline/simulate_stage.h). Writes a
-// `tpcal points v1` CSV (docs/formats/points.md) and, optionally, the stated truth.
+// Virtual machining and measurement of a test piece (pipeline/simulate_stage.h): a `tpcal points
+// v1` CSV (docs/formats/points.md); or the virtual datum-ball instrument
+// (pipeline/datum_ball_simulate_stage.h): a `tpcal ballpos v1` CSV (docs/formats/ballpos.md).
+// Optionally the stated truth.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
+#include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/simulate_stage.h"
 
@@ -23,9 +32,67 @@ struct SimulateArgs {
   pipeline::SimulateRequest request;
   std::string out;
   std::string truth;
+  std::string instrument;  // "" = a test piece; datum_ball = the virtual datum-ball instrument
+  std::vector<double> tilt_deg, ball_mm;
+  std::optional<double> c_step_deg;
+  double seconds_per_position = 60.0;
 };
 
-int RunSimulate(const SimulateArgs& args) {
+// Options of one path given on the other: their names, for the message.
+const char* const kPieceOnly[] = {"--config", "--density", "--levels", "--process", "--placement",
+                                  "--max-translation-mm", "--probe-radius-error-um"};
+const char* const kBallOnly[] = {"--tilt-deg", "--c-step-deg", "--ball", "--seconds-per-position"};
+
+Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
+  const bool ball = !args.instrument.empty();
+  if (ball && !args.piece.testpiece.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "--testpiece and --instrument: give one (a test piece to machine and measure, or an instrument)");
+  if (!ball && args.piece.testpiece.empty())
+    return Status(StatusCode::kInvalidArgument, "--testpiece NAME (or --instrument datum_ball) is required");
+  if (!ball && args.piece.machine.empty())
+    return Status(StatusCode::kInvalidArgument, "--machine is required with --testpiece");
+  for (const char* name : ball ? std::span<const char* const>(kPieceOnly) : std::span<const char* const>(kBallOnly))
+    if (sub.count(name) > 0)
+      return Status(StatusCode::kInvalidArgument,
+                    std::string(name) + (ball ? " is a test-piece option, not one of --instrument datum_ball"
+                                              : " needs --instrument datum_ball"));
+  if (ball && sub.count("--ball") > 0 && args.ball_mm.size() != 3)
+    return Status(StatusCode::kInvalidArgument,
+                  "--ball: expected X,Y,Z (mm, part frame), got " + std::to_string(args.ball_mm.size()) + " numbers");
+  return Status::Ok();
+}
+
+int RunDatumBallSimulate(const SimulateArgs& args) {
+  pipeline::DatumBallSimRequest request;
+  request.machine_path = args.piece.machine;
+  request.errors_path = args.request.errors_path;
+  request.output_path = args.out;
+  if (!args.tilt_deg.empty()) request.plan.tilt_deg = args.tilt_deg;
+  if (args.c_step_deg) request.plan.c_step_deg = *args.c_step_deg;
+  if (args.ball_mm.size() == 3) request.plan.ball_part_mm = Eigen::Vector3d(args.ball_mm[0], args.ball_mm[1], args.ball_mm[2]);
+  request.noise_um = args.request.noise_um;
+  request.seed = args.request.seed;
+  request.seconds_per_position = args.seconds_per_position;
+  request.truth = !args.truth.empty();
+  auto sim = pipeline::RunDatumBallSimulateStage(request);
+  if (!sim.ok()) return ReportError(sim.status());
+  if (Status s = pipeline::WriteFileAtomic(args.out, sim->csv); !s.ok()) return ReportError(s);
+  Info(fmt::format("wrote {}: {} datum-ball readings (noise {} um, seed {}{})", args.out, sim->readings.size(),
+                   request.noise_um, request.seed, sim->timed ? ", with t_s: the errors have thermal terms" : ""));
+  if (!args.truth.empty()) {
+    if (Status s = pipeline::WriteFileAtomic(args.truth, sim->truth_yaml); !s.ok()) return ReportError(s);
+    Info("wrote " + args.truth);
+  }
+  return kExitOk;
+}
+
+int RunSimulate(const CLI::App& sub, const SimulateArgs& args) {
+  if (Status s = CheckPathOptions(sub, args); !s.ok()) return ReportError(s);
+  if (!args.instrument.empty()) {
+    if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
+    return RunDatumBallSimulate(args);
+  }
   // Everything is read and checked before anything is written.
   if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
   if (Status s = args.request.Validate(); !s.ok()) return ReportError(s);
@@ -62,8 +129,29 @@ Command RegisterSimulate(CLI::App& app) {
       "the errors at the axis state, time and operation of its cut), then measured: CMM noise along the normal,\n"
       "probe-radius error, and the part placed on the CMM (datum: CMM frame = the part's datum frame; random:\n"
       "a random rigid placement). Writes a tpcal points v1 CSV (feature,x,y,z,i,j,k in mm, CMM frame) and,\n"
-      "with --truth, a YAML of the placement (cmm_from_part), the errors, noise, seed and per-feature deviations.");
+      "with --truth, a YAML of the placement (cmm_from_part), the errors, noise, seed and per-feature deviations.\n"
+      "With --instrument datum_ball instead of --testpiece: the virtual datum-ball test (seed 001): at each rotary\n"
+      "position the linear commands centring the probe on a ball on the table, solved through the full chain with\n"
+      "the errors (thermal terms at t_s = reading index x --seconds-per-position), plus Gaussian noise per\n"
+      "coordinate; writes a tpcal ballpos v1 CSV for `tpcal identify --instrument datum_ball`.");
   AddPieceOptions(sub, &args->piece, /*machine_required=*/true);
+  // Required on the test-piece path only (checked in RunSimulate).
+  sub->get_option("--testpiece")->required(false);
+  sub->get_option("--machine")->required(false)->description(
+      "machine model YAML (schema tpcal.machine/1, samples/machines/); required with --testpiece; "
+      "--instrument datum_ball: default the nominal bc_table");
+  sub->add_option("--instrument", args->instrument,
+                  "datum_ball: simulate the datum-ball instrument instead of a test piece (not with --testpiece)")
+      ->check(CLI::IsMember({"datum_ball"}));
+  sub->add_option("--tilt-deg", args->tilt_deg, "datum_ball: tilt-axis (B or A) commands, deg (default 0,30,-30)")
+      ->delimiter(',');
+  sub->add_option("--c-step-deg", args->c_step_deg, "datum_ball: C from 0 to < 360 deg in this step (default 30)");
+  sub->add_option("--ball", args->ball_mm, "datum_ball: nominal ball centre X,Y,Z, mm, part frame (default 200,0.1,300)")
+      ->delimiter(',');
+  sub->add_option("--seconds-per-position", args->seconds_per_position,
+                  "datum_ball: time between readings, s (t_s of reading i = i x this; only when the errors have "
+                  "thermal terms)")
+      ->capture_default_str();
   sub->add_option("--errors", args->request.errors_path,
                   "machine error YAML (schema tpcal.errors/1, kinematics/errors_yaml.md): E_X0C_um: 10, "
                   "E_B0C_urad: -20, dx_CR(0)_um: 12.4, effects: [...]; unknown keys are errors")
@@ -72,7 +160,9 @@ Command RegisterSimulate(CLI::App& app) {
                   "process effects YAML (schema tpcal.process/1, testpieces/process_effects_yaml.h): tool_deflection "
                   "{compliance_um_per_n: [x, y, z], ...}, servo_reversal {spike_x_um, spike_y_um, decay_deg, "
                   "backlash_x_um, backlash_y_um}; default none");
-  sub->add_option("--noise-um", args->request.noise_um, "1-sigma CMM probing noise along the normal, um")->capture_default_str();
+  sub->add_option("--noise-um", args->request.noise_um,
+                  "1-sigma CMM probing noise along the normal, um (datum_ball: of each coordinate of a reading)")
+      ->capture_default_str();
   sub->add_option("--seed", args->request.seed, "seed of std::mt19937_64 (placement, then noise)")->capture_default_str();
   sub->add_option("--placement", args->request.placement,
                   "part on the CMM: datum (CMM frame = nominal datum frame) or random (uniform rotation, translation "
@@ -84,9 +174,11 @@ Command RegisterSimulate(CLI::App& app) {
   sub->add_option("--probe-radius-error-um", args->request.probe_radius_error_um,
                   "actual minus calibrated probe radius, um (every point moves outward along its normal)")
       ->capture_default_str();
-  sub->add_option("-o,--output", args->out, "point CSV to write (docs/formats/points.md)")->required();
+  sub->add_option("-o,--output", args->out,
+                  "point CSV to write (docs/formats/points.md); datum_ball: ball-position CSV (docs/formats/ballpos.md)")
+      ->required();
   sub->add_option("--truth", args->truth, "also write the stated truth as YAML (schema tpcal.simulation_truth/1)");
-  return {sub, [args] { return RunSimulate(*args); }};
+  return {sub, [args, sub] { return RunSimulate(*sub, *args); }};
 }
 
 }  // namespace tpcal::cli

@@ -24,7 +24,12 @@ std::string DatumBallJson(const DatumBallReport& report) {
   for (const auto& p : r.parameters) params.push_back(ParameterEstimateJson(p));
   j["parameters"] = std::move(params);
   j["identifiability"] = IdentifiabilityJson(r.identifiability, r.parameters);
-  j["fit"] = {{"rms_before_um", r.rms_before_um}, {"rms_after_um", r.rms_after_um}, {"sigma_um", r.sigma_um},
+  j["fit"] = {{"rms_before_um", r.rms_before_um},
+              {"rms_after_um", r.rms_after_um},
+              {"sigma_um", r.sigma_um},
+              {"weights", r.weighted ? "u_um" : "none"},
+              {"chi_scale", r.weighted ? Json(r.chi_scale) : Json(nullptr)},
+              {"monte_carlo_runs", r.monte_carlo_runs},
               {"iterations", r.iterations}};
   j["ball"] = {{"centre_part_mm", {r.ball_part_mm.x(), r.ball_part_mm.y(), r.ball_part_mm.z()}},
                {"u_um", {r.ball_u_um.x(), r.ball_u_um.y(), r.ball_u_um.z()}}};
@@ -42,6 +47,11 @@ std::string DatumBallText(const DatumBallReport& report) {
                               "{:.3f} um\n",
                               r.residuals_um.size(), report.source, report.machine, r.rms_after_um, r.rms_before_um,
                               r.sigma_um);
+  if (r.weighted)
+    o += fmt::format("weighted by each reading's u_um: chi-like scale {:.3f} (1 when the u_um are right; the analytic u "
+                     "are scaled by it)\n",
+                     r.chi_scale);
+  if (r.monte_carlo_runs > 0) o += fmt::format("monte_carlo: {} re-identifications of re-simulated readings\n", r.monte_carlo_runs);
   for (const auto& p : r.parameters) {
     if (!p.identifiable) {
       o += fmt::format("  {:<12} not identifiable by this plan\n", p.name);

@@ -1,7 +1,8 @@
 // Speed of the datum-ball identification (kinematics/datum_ball.h): a 3 x 36-position test
 // (B = 0, +-30 deg, C every 10 deg; 108 readings, seed 001 Table 1(a) errors, 1 um noise), the
-// 11 errors of the B/C table and the ball centre, analytic and jackknife u. Baseline measured in
-// the same run: one pass of the model over the readings (108 Newton centrings), the least any
+// 11 errors of the B/C table and the ball centre, with the defaults: analytic, jackknife and
+// Monte Carlo u (200 runs); and without the Monte Carlo runs, for their cost. Baseline measured
+// in the same run: one pass of the model over the readings (108 Newton centrings), the least any
 // identification pays. Issue 19 target: < 50 ms.
 #include <benchmark/benchmark.h>
 
@@ -68,6 +69,18 @@ void BM_Identify3x36(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Identify3x36)->Unit(benchmark::kMillisecond);
+
+void BM_Identify3x36NoMonteCarlo(benchmark::State& state) {
+  const Case& c = Test3x36();
+  kinematics::DatumBallOptions options;
+  options.monte_carlo_runs = 0;
+  for (auto _ : state) {
+    auto r = kinematics::IdentifyDatumBall(c.machine, c.readings, options);
+    if (!r.ok()) state.SkipWithError("identification failed");
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_Identify3x36NoMonteCarlo)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
