@@ -209,10 +209,11 @@ Result<IrProgram> BuildDatumBallIr(const testpieces::DatumBallPlan& plan, const 
   const std::array<Eigen::Vector3d, 5> outward = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
                                                    -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
                                                    -Eigen::Vector3d::UnitY()};
+  auto centres = testpieces::NominalCentringCommands(machine, plan);
+  if (!centres.ok()) return centres.status();
   for (std::size_t i = 0; i < plan.positions.size(); ++i) {
     const int op = static_cast<int>(i) + 1;
-    auto c = kinematics::BallCentreCommand(machine, zero, RotaryOf(plan.positions[i]), plan.ball_part_mm);
-    if (!c.ok()) return c.status();
+    const Eigen::Vector3d* c = &(*centres)[i];
     const std::string text = PositionText(plan, i, *c);
     prog.operation_names.push_back(text);
     Instr comment;
@@ -270,11 +271,6 @@ Result<PostedDatumBall> PostDatumBallProgram(const testpieces::DatumBallPlan& pl
   if (options.dialect == Dialect::kLinuxCnc) {
     out.tool_table_file = options.tool_table_file.empty() ? options.program_name + ".tbl" : options.tool_table_file;
     out.tool_table_text = LinuxCncToolTable(out.ir);
-  }
-  for (const kinematics::AxisState& p : plan.positions) {
-    auto c = kinematics::BallCentreCommand(machine, kinematics::ErrorState(machine), RotaryOf(p), plan.ball_part_mm);
-    if (!c.ok()) return c.status();
-    out.centre_commands_mm.push_back(*c);
   }
   return out;
 }

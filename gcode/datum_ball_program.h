@@ -54,7 +54,6 @@ struct PostedDatumBall {
   std::string tool_table_text;
   IrProgram ir;
   PostedText posted;
-  std::vector<Eigen::Vector3d> centre_commands_mm;  // nominal centring commands, per position
 };
 
 // Builds the IR, posts it in options.dialect, checks every target against the machine's strokes

@@ -73,7 +73,6 @@ TEST_P(DatumBallDialect, PostsFiveTouchesPerPositionWithTheDialectsProbingBlock)
   EXPECT_NE(t.find("POSITION 1/36: B0 C0,"), std::string::npos);
   EXPECT_NE(t.find("POSITION 36/36: B-30 C330,"), std::string::npos);
   EXPECT_TRUE(std::regex_search(t, std::regex("INSTRUMENT: datum ball", std::regex::icase)));
-  ASSERT_EQ(p->centre_commands_mm.size(), 36u);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllDialects, DatumBallDialect,

@@ -97,12 +97,9 @@ Result<DatumBallPlanResult> RunDatumBallPlanStage(const DatumBallPlanRequest& r)
   auto plan = testpieces::MakeDatumBallPlan(*machine, *plan_options);
   if (!plan.ok()) return plan.status().WithLocation(r.machine_path.empty() ? "tpcal plan" : r.machine_path);
   out.plan = std::move(plan).value();
-  const kinematics::ErrorState zero(*machine);
-  for (const kinematics::AxisState& p : out.plan.positions) {
-    auto c = kinematics::BallCentreCommand(*machine, zero, p, out.plan.ball_part_mm);
-    if (!c.ok()) return c.status().WithLocation("tpcal plan");
-    out.centre_commands_mm.push_back(*c);
-  }
+  auto centres = testpieces::NominalCentringCommands(*machine, out.plan);
+  if (!centres.ok()) return centres.status().WithLocation("tpcal plan");
+  out.centre_commands_mm = std::move(*centres);
   out.csv = FormatBallPositionPlan(out.plan, out.centre_commands_mm, out.machine);
   out.files.push_back({r.csv_path, out.csv});
   if (!r.nc.output.empty()) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/units.h"
+#include "kinematics/datum_ball.h"
 
 namespace tpcal::testpieces {
 namespace {
@@ -42,6 +43,18 @@ Result<DatumBallPlan> MakeDatumBallPlan(const kinematics::MachineModel& model, c
     }
   }
   return plan;
+}
+
+Result<std::vector<Eigen::Vector3d>> NominalCentringCommands(const kinematics::MachineModel& model,
+                                                             const DatumBallPlan& plan) {
+  const kinematics::ErrorState zero(model);
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t i = 0; i < plan.positions.size(); ++i) {
+    auto c = kinematics::BallCentreCommand(model, zero, plan.positions[i], plan.ball_part_mm);
+    if (!c.ok()) return c.status().WithContext("datum-ball plan position " + std::to_string(i + 1));
+    out.push_back(*c);
+  }
+  return out;
 }
 
 }  // namespace tpcal::testpieces

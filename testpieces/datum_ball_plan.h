@@ -35,4 +35,10 @@ struct DatumBallPlan {
 Result<DatumBallPlan> MakeDatumBallPlan(const kinematics::MachineModel& model,
                                         const DatumBallPlanOptions& options = {});
 
+// The linear commands (mm) that centre the probe on the ball at each position of `plan` on the
+// error-free `model` (kinematics::BallCentreCommand): what the plan file holds and where the
+// probing program touches. Errors: kNotConverged naming the position (1-based).
+Result<std::vector<Eigen::Vector3d>> NominalCentringCommands(const kinematics::MachineModel& model,
+                                                             const DatumBallPlan& plan);
+
 }  // namespace tpcal::testpieces
