@@ -41,6 +41,7 @@ Status LoadDiagnosisReference(const std::string& path, const kinematics::Machine
 std::string ReferenceKind(const DiagnoseRequest& r, bool reference_points) {
   if (r.reference_path.empty()) return "";
   if (!r.reference_instrument.empty()) return r.reference_instrument;
+  if (IsIdentificationReference(r.reference_path)) return "identification";
   return reference_points ? "points" : "machine errors";
 }
 
@@ -71,7 +72,7 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   options.noise_um = r.noise_um;
   options.alpha = r.alpha;
   options.screen_outliers = !r.keep_outliers;
-  if (!r.reference_instrument.empty()) {
+  if (!r.reference_instrument.empty() || IsIdentificationReference(r.reference_path)) {
     if (r.reference_path.empty())
       return Status(StatusCode::kInvalidArgument, "--reference-instrument needs --reference FILE (the instrument's file)");
     auto d = DiagnoseAgainstInstrument(

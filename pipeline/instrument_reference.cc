@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -14,19 +15,37 @@
 #include "pipeline/diagnosis/reference_agreement.h"
 #include "pipeline/identified_gap.h"
 #include "pipeline/identify_stage.h"
+#include "pipeline/io/identification_reader.h"
 
 namespace tpcal::pipeline {
 namespace {
 
 struct InstrumentResult {
+  std::string instrument;
   std::string machine_type;
   std::vector<kinematics::ParameterEstimate> parameters;
 };
 
+// A tpcal.identification/1 file: its parameters as they were identified.
+Result<InstrumentResult> ReadIdentified(const std::string& path) {
+  auto file = ReadIdentificationJson(path);
+  if (!file.ok()) return file.status();
+  InstrumentResult out{file->instrument.empty() ? "identification" : file->instrument, file->machine, {}};
+  for (const IdentifiedParameter& p : file->parameters) {
+    kinematics::ParameterEstimate e;
+    e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
+    out.parameters.push_back(std::move(e));
+  }
+  return out;
+}
+
 Result<InstrumentResult> IdentifyInstrument(const InstrumentReferenceRequest& r) {
+  if (IsIdentificationReference(r.path)) return ReadIdentified(r.path);
+  if (!IsReferenceInstrument(r.instrument))
+    return Status(StatusCode::kInvalidArgument, "--reference-instrument " + r.instrument + ": expected datum_ball");
   auto ball = RunDatumBallStage({.path = r.path, .machine_path = r.machine_path, .parameters = {}, .ball_part_mm = {}});
   if (!ball.ok()) return ball.status();
-  return InstrumentResult{ball->machine, ball->result.parameters};
+  return InstrumentResult{r.instrument, ball->machine, ball->result.parameters};
 }
 
 std::vector<std::string> NamesOf(const std::vector<kinematics::ParameterEstimate>& params) {
@@ -94,16 +113,21 @@ std::string UpdateNote(const Prior& prior, const kinematics::PriorUpdate& up, co
 
 bool IsReferenceInstrument(const std::string& name) { return name == "datum_ball"; }
 
+bool IsIdentificationReference(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".json";
+}
+
 Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
                                                   const InstrumentReferenceRequest& r, const DiagnosisOptions& options) {
-  if (!IsReferenceInstrument(r.instrument))
-    return Status(StatusCode::kInvalidArgument, "--reference-instrument " + r.instrument + ": expected datum_ball");
   auto inst = IdentifyInstrument(r);
   if (!inst.ok()) return inst.status();
   if (inst->machine_type != kinematics::MachineTypeName(setup.machine.type))
     return Status(StatusCode::kInvalidArgument,
-                  fmt::format("a datum-ball test of a {} machine, the piece's machine is {} (give --machine)",
-                              inst->machine_type, kinematics::MachineTypeName(setup.machine.type)),
+                  fmt::format("a {} of a {} machine, the piece's machine is {} (give --machine)", inst->instrument,
+                              inst->machine_type.empty() ? "unnamed" : inst->machine_type,
+                              kinematics::MachineTypeName(setup.machine.type)),
                   r.path);
   IdentifyStageOptions id_options;
   id_options.parameters = NamesOf(inst->parameters);
@@ -127,11 +151,11 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
   if (!update.ok()) return update.status();
   DiagnosisOptions d_options = options;
   d_options.reference = update->posterior;
-  d_options.reference_name = r.instrument + " " + std::filesystem::path(r.path).filename().string();
+  d_options.reference_name = inst->instrument + " " + std::filesystem::path(r.path).filename().string();
   d_options.reference_path = r.path;
   auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, d_options);
   if (!d.ok()) return d.status();
-  agreement.instrument = r.instrument;
+  agreement.instrument = inst->instrument;
   agreement.source = r.path;
   agreement.reference_note = UpdateNote(*prior, *update, held);
   d->reference_agreement = std::move(agreement);

@@ -17,18 +17,24 @@
 namespace tpcal::pipeline {
 
 struct InstrumentReferenceRequest {
-  std::string path;          // the instrument's file (datum_ball: tpcal ballpos v1)
-  std::string instrument;    // "datum_ball"
+  // The instrument's file (datum_ball: tpcal ballpos v1, identified here), or an identification
+  // tpcal wrote (.json, tpcal.identification/1: its parameters as they are, the instrument named
+  // there; any measurement type or test piece).
+  std::string path;
+  std::string instrument;    // "datum_ball" for a raw file; ignored for .json
   std::string machine_path;  // the piece's machine file ("" = the nominal machine of its type)
 };
 
-// The instruments a reference can come from.
+// The instruments a raw reference file can come from.
 bool IsReferenceInstrument(const std::string& name);
+// A reference that is an identification tpcal wrote (by its extension, .json).
+bool IsIdentificationReference(const std::string& path);
 
 // `options` carry noise, alpha and the screen (reference and base set are set here); `measured`
 // is the piece's point file. The result holds reference_agreement. Errors: an unknown instrument
-// (kInvalidArgument listing the known ones), the instrument file's and identification's, an
-// instrument machine of another type than the piece's, the piece identification's, the diagnosis's.
+// for a raw file (kInvalidArgument listing the known ones), the instrument file's and
+// identification's (pipeline/io/identification_reader.h for .json), a reference machine of
+// another type than the piece's, the piece identification's, the diagnosis's.
 Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
                                                   const InstrumentReferenceRequest& request,
                                                   const DiagnosisOptions& options);

@@ -20,6 +20,8 @@
 #include "kinematics/datum_ball.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
+#include "pipeline/datum_ball_stage.h"
+#include "pipeline/report/datum_ball_json.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/datum_ball_plan.h"
@@ -116,6 +118,36 @@ TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
   auto other = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = bc.string(), .instrument = "datum_ball", .machine_path = ""}, {});
   ASSERT_FALSE(other.ok());
   EXPECT_NE(other.status().ToString().find("machine is ac_table"), std::string::npos) << other.status().ToString();
+}
+
+// The identification JSON `tpcal identify --instrument datum_ball --json` writes serves as the
+// reference as the raw file does: the same table to the last bit of what the JSON keeps
+// (values and u round-trip through nlohmann's shortest form exactly).
+TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) {
+  const std::string ballpos = WriteBallpos(0.5, 11);
+  auto report = RunDatumBallStage({.path = ballpos, .machine_path = "", .parameters = {}, .ball_part_mm = {}});
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  const auto json_path = InstrumentTestDir() / "ball.json";
+  std::ofstream(json_path) << DatumBallJson(*report);
+  const PointSet piece = CutPiece(kColdErrors, 7);
+  auto raw = AgainstBall(piece, ballpos), js = AgainstBall(piece, json_path.string());
+  ASSERT_TRUE(raw.ok() && js.ok()) << js.status().ToString();
+  ASSERT_EQ(raw->reference_agreement->rows.size(), js->reference_agreement->rows.size());
+  for (std::size_t k = 0; k < raw->reference_agreement->rows.size(); ++k) {
+    EXPECT_EQ(raw->reference_agreement->rows[k].z, js->reference_agreement->rows[k].z) << k;
+    EXPECT_EQ(raw->reference_agreement->rows[k].instrument_value, js->reference_agreement->rows[k].instrument_value);
+  }
+  EXPECT_EQ(js->reference_agreement->instrument, "datum_ball");
+  EXPECT_EQ(raw->rms_um, js->rms_um);
+  std::ofstream(InstrumentTestDir() / "bad.json") << "{\"schema\": \"tpcal.identification/1\",\n \"parameters\": [{\"name\": \"E_X0C\", \"unit\": \"um\", \"identifiable\": true, \"u\": 1}]}";
+  auto bad = AgainstBall(piece, (InstrumentTestDir() / "bad.json").string());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().ToString().find("bad.json: parameters[0] (E_X0C): expected a number \"value\""), std::string::npos)
+      << bad.status().ToString();
+  std::ofstream(InstrumentTestDir() / "broken.json") << "{\n\"schema\": \n,";
+  auto broken = AgainstBall(piece, (InstrumentTestDir() / "broken.json").string());
+  ASSERT_FALSE(broken.ok());
+  EXPECT_NE(broken.status().ToString().find("broken.json:3: expected JSON"), std::string::npos) << broken.status().ToString();
 }
 
 // A small study (fixed seed 2026): 30 machines with random cold errors (the 11 parameters

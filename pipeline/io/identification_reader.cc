@@ -1,0 +1,84 @@
+#include "pipeline/io/identification_reader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/io/file_bytes.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+using json = nlohmann::json;
+
+Status IdParseError(const std::string& source, const std::string& what, std::size_t line = 0) {
+  return Status(StatusCode::kParseError, what, source, line);
+}
+
+// 1-based line of byte offset `byte` (nlohmann counts bytes read, one past the fault).
+std::size_t LineOfByte(std::string_view text, std::size_t byte) {
+  byte = std::min(byte, text.size());
+  return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
+}
+
+std::string StringOr(const json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+Result<IdentifiedParameter> ParameterOf(const json& p, std::size_t i, const std::string& source) {
+  const std::string where = "parameters[" + std::to_string(i) + "]";
+  if (!p.is_object() || !p.contains("name") || !p["name"].is_string())
+    return IdParseError(source, where + ": expected an object with a string \"name\"");
+  IdentifiedParameter out;
+  out.name = p["name"].get<std::string>();
+  const std::string at = where + " (" + out.name + ")";
+  if (!p.contains("unit") || !p["unit"].is_string()) return IdParseError(source, at + ": expected a string \"unit\"");
+  if (!p.contains("identifiable") || !p["identifiable"].is_boolean())
+    return IdParseError(source, at + ": expected a boolean \"identifiable\"");
+  out.unit = p["unit"].get<std::string>();
+  out.identifiable = p["identifiable"].get<bool>();
+  if (!out.identifiable) return out;
+  for (const char* key : {"value", "u"}) {
+    if (!p.contains(key) || !p[key].is_number())
+      return IdParseError(source, at + ": expected a number \"" + key + "\" (the parameter is identifiable)");
+  }
+  out.value = p["value"].get<double>(), out.u = p["u"].get<double>();
+  if (!std::isfinite(out.value) || !std::isfinite(out.u) || out.u < 0.0)
+    return IdParseError(source, at + ": expected a finite value and u >= 0");
+  return out;
+}
+
+}  // namespace
+
+Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source) {
+  json doc;
+  try {
+    doc = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    return IdParseError(source, "expected JSON (tpcal.identification/1)", LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
+  }
+  if (!doc.is_object() || StringOr(doc, "schema") != "tpcal.identification/1")
+    return IdParseError(source, "expected \"schema\": \"tpcal.identification/1\"");
+  if (!doc.contains("parameters") || !doc["parameters"].is_array())
+    return IdParseError(source, "expected a \"parameters\" array");
+  IdentificationFile out;
+  out.source = source;
+  out.instrument = StringOr(doc, "instrument");
+  out.machine = StringOr(doc, "machine");
+  const json& params = doc["parameters"];
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    auto p = ParameterOf(params[i], i, source);
+    if (!p.ok()) return p.status();
+    out.parameters.push_back(std::move(*p));
+  }
+  return out;
+}
+
+Result<IdentificationFile> ReadIdentificationJson(const std::string& path) {
+  auto bytes = ReadFileBytes(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParseIdentificationJson(bytes->view(), path);
+}
+
+}  // namespace tpcal::pipeline

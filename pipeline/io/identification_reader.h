@@ -1,0 +1,36 @@
+// A machine-error identification written by tpcal (`tpcal.identification/1` JSON,
+// docs/formats/identify_json.md), read back as a reference: who measured (instrument, machine
+// type) and each parameter's value and standard uncertainty in its display unit.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/status.h"
+
+namespace tpcal::pipeline {
+
+struct IdentifiedParameter {
+  std::string name;           // ISO 230-1 or catalogue name
+  std::string unit;           // "um", "urad", ...
+  bool identifiable = false;  // false: value and u are absent (null) in the file
+  double value = 0.0, u = 0.0;
+};
+
+struct IdentificationFile {
+  std::string source;
+  std::string instrument;  // "" for a test piece's identification
+  std::string machine;     // machine type name ("ac_table", ...), "" if absent
+  std::vector<IdentifiedParameter> parameters;
+};
+
+// Errors (kParseError naming `source`): not JSON (with the line of the fault), a schema other
+// than tpcal.identification/1, no "parameters" array, a parameter without a string "name" or
+// "unit" or a boolean "identifiable", an identifiable one whose "value" or "u" is not a finite
+// number (u >= 0) — located as parameters[i] ("name").
+Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);
+// The file at `path`; also kIoError when it cannot be read.
+Result<IdentificationFile> ReadIdentificationJson(const std::string& path);
+
+}  // namespace tpcal::pipeline
