@@ -7,6 +7,7 @@
 #include "kinematics/error_state.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identified_gap.h"
+#include "pipeline/instrument_reference.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
@@ -106,7 +107,13 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     clock.Start("diagnose");
     DiagnosisOptions gap_options;
     gap_options.screen_outliers = !config.keep_outliers;
-    auto d = DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options);
+    auto d = config.reference_file.empty()
+                 ? DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options)
+                 : DiagnoseAgainstInstrument(*setup, file->points,
+                                             {.path = config.reference_file,
+                                              .instrument = config.reference_instrument,
+                                              .machine_path = config.machine},
+                                             gap_options);
     if (d.ok())
       diagnosis = std::move(*d);
     else
