@@ -65,7 +65,8 @@ struct RunOptions {
   ProgressFn progress;
 };
 
-// Errors: the first failing stage's status (file, line, what was expected).
+// Errors: the first failing stage's status (file, line, what was expected); with a reference
+// instrument, first its file's (unreadable, or not tpcal ballpos v1: pipeline/io/ballpos_reader.h).
 Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options = {});
 
 }  // namespace tpcal::pipeline
