@@ -8,6 +8,7 @@
 #include "core/xml_escape.h"
 #include "pipeline/run_config.h"
 #include "pipeline/report/diagnosis_html_blocks.h"
+#include "pipeline/report/reference_agreement_report.h"
 #include "pipeline/report/svg_writer.h"
 #include "pipeline/version.h"
 
@@ -178,6 +179,7 @@ std::string DiagnosisSection(const RunResult& r) {
                      E(d.pair->cv_method));
   h += "</p>\n";
   h += VerdictFamiliesHtml(v) + BaseShiftHtml(d) + ScreenHtml(d);
+  if (d.reference_agreement) h += ReferenceAgreementHtml(*d.reference_agreement);
   h += fmt::format(
       "<p class=\"meta\">Base model: {} ({} columns). Gap: RMS {} um, largest {} um over {} points; noise sigma {} "
       "um; linear drift with machining time {} +- {} um/h.</p>\n",

@@ -10,6 +10,7 @@
 #include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
+#include "pipeline/instrument_reference.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 
@@ -59,6 +60,29 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
   return value;
 }
 
+// reference: {instrument: datum_ball, file: PATH}: both keys, the file relative to the YAML's directory.
+Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, PipelineConfig* c) {
+  if (!v.IsMap()) return ParseErrorAt(source, v, "'reference': expected a map {instrument: datum_ball, file: PATH}");
+  c->reference_instrument = "datum_ball";
+  bool have_file = false;
+  for (const auto& r : v) {
+    const std::string k = r.first.as<std::string>();
+    if (k != "instrument" && k != "file")
+      return ParseErrorAt(source, r.first,
+                          "unknown key 'reference." + EchoInput(k) + "' (expected instrument, file)");
+    auto s = As<std::string>(source, r.second, k, k == "file" ? "a path" : "datum_ball");
+    if (!s.ok()) return s.status();
+    if (k == "instrument" && !IsReferenceInstrument(*s))
+      return ParseErrorAt(source, r.second, "'reference.instrument' '" + EchoInput(*s) + "': expected datum_ball");
+    if (k == "file" && s->empty()) return ParseErrorAt(source, r.second, "'reference.file': expected a path");
+    if (k == "instrument") c->reference_instrument = *s;
+    if (k == "file") c->reference_file = Resolve(source, *s);
+    have_file = have_file || k == "file";
+  }
+  if (!have_file) return ParseErrorAt(source, v, "'reference': missing key 'file' (the instrument's file)");
+  return Status::Ok();
+}
+
 }  // namespace
 
 std::optional<kinematics::UncertaintyMethod> ParseUncertaintyMethod(const std::string& name) {
@@ -83,6 +107,11 @@ Status PipelineConfig::Validate() const {
     return Status(StatusCode::kInvalidArgument, "report magnifications must be > 0", source);
   if (anchor_feature.empty() != !anchor_near_mm.has_value())
     return Status(StatusCode::kInvalidArgument, "'raw_scan': anchor_feature and anchor_near_mm go together", source);
+  if (reference_file.empty() != reference_instrument.empty())
+    return Status(StatusCode::kInvalidArgument, "'reference': instrument and file go together", source);
+  if (!reference_instrument.empty() && !IsReferenceInstrument(reference_instrument))
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': instrument '" + EchoInput(reference_instrument) + "': expected datum_ball", source);
   if (Status s = scan_cells.Validate(); !s.ok()) return s.WithLocation(source);
   return Status::Ok();
 }
@@ -96,6 +125,8 @@ Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOv
   if (o.seed) c.seed = *o.seed;
   if (o.monte_carlo_trials) c.monte_carlo_trials = *o.monte_carlo_trials;
   if (o.keep_outliers) c.keep_outliers = true;
+  if (!o.reference_file.empty()) c.reference_file = o.reference_file;
+  if (!o.reference_instrument.empty()) c.reference_instrument = o.reference_instrument;
   if (!o.out.empty()) c.out = o.out;
   if (!o.anchor_feature.empty()) {
     c.anchor_feature = o.anchor_feature;
@@ -153,6 +184,8 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
       auto b = As<bool>(source, v, key, "true or false");
       if (!b.ok()) return b.status();
       c.keep_outliers = *b;
+    } else if (key == "reference") {
+      if (Status s = ParseReferenceBlock(source, v, &c); !s.ok()) return s;
     } else if (key == "uncertainty") {
       if (!v.IsMap()) return ParseErrorAt(source, v, "'uncertainty': expected a map");
       for (const auto& u : v) {
@@ -235,7 +268,7 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
       return ParseErrorAt(source, kv.first,
                           "unknown key '" + EchoInput(key) +
                               "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
-                              "diagnose, keep_outliers, truth, raw_scan, scan_cells, report, out)");
+                              "diagnose, keep_outliers, truth, reference, raw_scan, scan_cells, report, out)");
     }
   }
   return c;
@@ -281,6 +314,12 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   e << YAML::Key << "diagnose" << YAML::Value << c.diagnose;
   e << YAML::Key << "keep_outliers" << YAML::Value << c.keep_outliers;
   e << YAML::Key << "truth" << YAML::Value << c.truth;
+  if (!c.reference_file.empty()) {  // written only when set: a run without one echoes as before
+    e << YAML::Key << "reference" << YAML::Value << YAML::BeginMap;
+    e << YAML::Key << "instrument" << YAML::Value << c.reference_instrument;
+    e << YAML::Key << "file" << YAML::Value << c.reference_file;
+    e << YAML::EndMap;
+  }
   e << YAML::Key << "raw_scan" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "anchor_feature" << YAML::Value << c.anchor_feature;
   std::vector<double> near;

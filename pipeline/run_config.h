@@ -13,6 +13,8 @@
 //   uncertainty: {primary: jackknife_points, jackknife_groups: true, monte_carlo_trials: 2000}
 //   diagnose: true                          # gap diagnosis (pipeline/diagnosis/diagnosis.h) against the identified model
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
+//   reference: {instrument: datum_ball, file: ballpos.csv}  # optional: the diagnosis against an
+//                                           #   instrument test of the same machine (instrument_reference.h)
 //   raw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80, 40]}  # optional: for a raw scan of a
 //                                           #   symmetric piece, the feature nearest this CMM point
 //   scan_cells: {above_points: 250000, target_cells: 100000, max_cell_mm: 4, max_cell_deg: 2}
@@ -49,6 +51,11 @@ struct PipelineConfig {
   // diagnosis (listed with the reason); true keeps them (still listed). YAML keep_outliers.
   bool keep_outliers = false;
   std::string truth;        // "" = none
+  // An instrument test of the same machine the diagnosis is made against
+  // (pipeline/instrument_reference.h); "" = none, both set or neither. YAML reference:
+  // {instrument: datum_ball, file: PATH}; `tpcal run --reference PATH --reference-instrument NAME`.
+  std::string reference_instrument;
+  std::string reference_file;
   // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
   // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
   // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}; `tpcal run --anchor H1@x,y,z` overrides it.
@@ -78,6 +85,8 @@ struct PipelineOverrides {
   std::optional<std::uint64_t> seed{};
   std::optional<int> monte_carlo_trials{};
   bool keep_outliers = false;  // --keep-outliers: true sets keep_outliers, false leaves the file's
+  std::string reference_file{};        // non-empty: replaces the reference's file
+  std::string reference_instrument{};  // non-empty: replaces the reference's instrument
   std::string out{};
   std::string anchor_feature{};  // non-empty: replaces raw_scan's anchor_feature and anchor_near_mm
   std::optional<Eigen::Vector3d> anchor_near_mm{};

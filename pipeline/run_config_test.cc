@@ -65,5 +65,45 @@ TEST(PipelineOverrides, KeepOutliersFromTheFileOrTheFlagAndWrittenBack) {
   EXPECT_NE(bad.status().ToString().find("/d/p.yaml:2"), std::string::npos) << bad.status().ToString();
 }
 
+TEST(PipelineOverrides, ReferenceBlockFromTheFileOrTheFlagsAndWrittenBack) {
+  auto file = ParsePipelineConfig("points: a.csv\nout: o\nreference:\n  instrument: datum_ball\n  file: ball.csv\n",
+                                  "/d/p.yaml");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  EXPECT_EQ(file->reference_instrument, "datum_ball");
+  EXPECT_EQ(file->reference_file, "/d/ball.csv");
+  EXPECT_NE(FormatPipelineConfig(*file).find("reference:\n  instrument: datum_ball\n  file: /d/ball.csv"),
+            std::string::npos)
+      << FormatPipelineConfig(*file);
+  auto plain = ParsePipelineConfig("points: a.csv\nout: o\n", "/d/p.yaml");
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(FormatPipelineConfig(*plain).find("reference"), std::string::npos);
+  PipelineOverrides o;
+  o.reference_file = "e/ball.csv";
+  auto half = ApplyPipelineOverrides(*plain, o, false);
+  ASSERT_FALSE(half.ok());
+  EXPECT_NE(half.status().ToString().find("instrument and file go together"), std::string::npos);
+  o.reference_instrument = "datum_ball";
+  auto c = ApplyPipelineOverrides(*plain, o, false);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->reference_file, "e/ball.csv");
+}
+
+TEST(PipelineOverrides, BadReferenceBlocksNameTheLine) {
+  auto unknown = ParsePipelineConfig("points: a.csv\nreference:\n  instrument: laser\n  file: b.csv\n", "/d/p.yaml");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.status().ToString().find("/d/p.yaml:3"), std::string::npos) << unknown.status().ToString();
+  EXPECT_NE(unknown.status().ToString().find("expected datum_ball"), std::string::npos);
+  auto no_file = ParsePipelineConfig("points: a.csv\nreference:\n  instrument: datum_ball\n", "/d/p.yaml");
+  ASSERT_FALSE(no_file.ok());
+  EXPECT_NE(no_file.status().ToString().find("/d/p.yaml:3"), std::string::npos) << no_file.status().ToString();
+  EXPECT_NE(no_file.status().ToString().find("missing key 'file'"), std::string::npos);
+  auto extra = ParsePipelineConfig("points: a.csv\nreference: {file: b.csv, tilt: 3}\n", "/d/p.yaml");
+  ASSERT_FALSE(extra.ok());
+  EXPECT_NE(extra.status().ToString().find("/d/p.yaml:2"), std::string::npos) << extra.status().ToString();
+  auto not_map = ParsePipelineConfig("points: a.csv\nreference: b.csv\n", "/d/p.yaml");
+  ASSERT_FALSE(not_map.ok());
+  EXPECT_NE(not_map.status().ToString().find("/d/p.yaml:2"), std::string::npos) << not_map.status().ToString();
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

@@ -12,7 +12,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 Json ConfigJson(const PipelineConfig& c) {
-  return {{"schema", "tpcal.pipeline/1"},
+  Json j = {{"schema", "tpcal.pipeline/1"},
           {"testpiece", c.testpiece},
           {"points", c.points},
           {"machine", c.machine},
@@ -27,6 +27,9 @@ Json ConfigJson(const PipelineConfig& c) {
           {"report",
            {{"position_magnification", c.figures.position_magnification},
             {"profile_magnification", c.figures.profile_magnification}}}};
+  if (!c.reference_file.empty())
+    j["reference"] = {{"instrument", c.reference_instrument}, {"file", c.reference_file}};
+  return j;
 }
 
 }  // namespace

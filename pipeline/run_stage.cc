@@ -7,6 +7,8 @@
 #include "kinematics/error_state.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identified_gap.h"
+#include "pipeline/instrument_reference.h"
+#include "pipeline/io/ballpos_reader.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
@@ -41,10 +43,20 @@ class StageClock {
   std::chrono::steady_clock::time_point t0_;
 };
 
+// A reference instrument's file is input: unreadable or malformed, the run stops before any
+// stage (file:line); what the instrument's identification or the diagnosis cannot do later is
+// the diagnosis's status, as without a reference.
+Status CheckInstrumentFile(const PipelineConfig& config) {
+  if (config.reference_file.empty()) return Status::Ok();
+  auto file = ReadBallPositions(config.reference_file);
+  return file.ok() ? Status::Ok() : file.status();
+}
+
 }  // namespace
 
 Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options) {
   if (Status s = config.Validate(); !s.ok()) return s;
+  if (Status s = CheckInstrumentFile(config); !s.ok()) return s;
   std::vector<StageTiming> timings;
   StageClock clock(&timings, options.progress);
 
@@ -106,7 +118,13 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     clock.Start("diagnose");
     DiagnosisOptions gap_options;
     gap_options.screen_outliers = !config.keep_outliers;
-    auto d = DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options);
+    auto d = config.reference_file.empty()
+                 ? DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options)
+                 : DiagnoseAgainstInstrument(*setup, file->points,
+                                             {.path = config.reference_file,
+                                              .instrument = config.reference_instrument,
+                                              .machine_path = config.machine},
+                                             gap_options);
     if (d.ok())
       diagnosis = std::move(*d);
     else

@@ -48,7 +48,9 @@ struct RunResult {
   // observations, the identification and the diagnosis are then per cell.
   std::optional<ScanCellSummary> scan_cells;
   IdentifyStageResult stage;     // inspection, observations, parameters, identification
-  // Gap diagnosis with the identified parameter set as the base model (config.diagnose); when it
+  // Gap diagnosis with the identified parameter set as the base model (config.diagnose), or, when
+  // config names a reference instrument, against that instrument (instrument_reference.h: the
+  // piece identified again with the instrument's parameters; reference_agreement set); when it
   // could not be made (e.g. no residual degrees of freedom) diagnosis_status says why and the
   // rest of the run stands.
   std::optional<DiagnosisResult> diagnosis;
@@ -63,7 +65,8 @@ struct RunOptions {
   ProgressFn progress;
 };
 
-// Errors: the first failing stage's status (file, line, what was expected).
+// Errors: the first failing stage's status (file, line, what was expected); with a reference
+// instrument, first its file's (unreadable, or not tpcal ballpos v1: pipeline/io/ballpos_reader.h).
 Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options = {});
 
 }  // namespace tpcal::pipeline

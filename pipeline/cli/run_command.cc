@@ -91,6 +91,10 @@ Command RegisterRun(CLI::App& app) {
   sub->add_flag("--keep-outliers", args->overrides.keep_outliers,
                "keep the probe hits and patches the outlier screen flags in identification and diagnosis "
                "(they are still listed); default: left out, with the reason");
+  sub->add_option("--reference", args->overrides.reference_file,
+                  "an instrument test of the same machine to diagnose against (with --reference-instrument)");
+  sub->add_option("--reference-instrument", args->overrides.reference_instrument,
+                  "the instrument of --reference: datum_ball (tpcal ballpos v1)");
   sub->add_option("--batch", args->batch, "directory or glob of point files: run each, in parallel");
   sub->add_option("-j,--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
   sub->add_flag("-q,--quiet", args->quiet, "no progress lines");

@@ -28,10 +28,20 @@ std::string RunParameterTable(const kinematics::IdentificationResult& identifica
                            identification.rms_after_um);
 }
 
+std::string InstrumentAgreementLine(const std::optional<ReferenceAgreement>& agreement) {
+  if (!agreement) return "";
+  std::string names;
+  for (const AgreementRow& row : agreement->rows)
+    if (!row.agree) names += (names.empty() ? " (" : ", ") + row.name;
+  return fmt::format("instrument vs piece: {} of {} compared parameters disagree{}\n", agreement->disagreeing,
+                     agreement->compared, names.empty() ? "" : names + ")");
+}
+
 std::string GapDiagnosisLine(const std::optional<DiagnosisResult>& diagnosis, bool asked, const Status& why_not) {
   if (diagnosis)
     return fmt::format("gap diagnosis: {} ({}), shrink {:.1f} % (cross-validated {:.1f} %)\n", diagnosis->verdict.family,
-                       diagnosis->verdict.name, diagnosis->verdict.shrink_pct, diagnosis->verdict.cv_shrink_pct);
+                       diagnosis->verdict.name, diagnosis->verdict.shrink_pct, diagnosis->verdict.cv_shrink_pct) +
+           InstrumentAgreementLine(diagnosis->reference_agreement);
   if (asked) return "gap diagnosis: not made: " + why_not.ToString() + "\n";
   return "";
 }

@@ -44,5 +44,28 @@ TEST(RunSummary, GapDiagnosisLineMadeNotMadeAndNotAsked) {
   EXPECT_EQ(GapDiagnosisLine(std::nullopt, false, why), "");
 }
 
+TEST(RunSummary, InstrumentLineAfterTheGapLineNamesTheDisagreeing) {
+  DiagnosisResult d;
+  d.verdict.family = "thermal_drift";
+  d.verdict.name = "drift";
+  ReferenceAgreement a;
+  a.compared = 3;
+  a.disagreeing = 1;
+  AgreementRow agrees;
+  agrees.name = "E_Y0A";
+  AgreementRow differs;
+  differs.name = "E_X0C";
+  differs.agree = false;
+  a.rows = {agrees, differs};
+  d.reference_agreement = a;
+  EXPECT_EQ(GapDiagnosisLine(d, true, Status::Ok()),
+            "gap diagnosis: thermal_drift (drift), shrink 0.0 % (cross-validated 0.0 %)\n"
+            "instrument vs piece: 1 of 3 compared parameters disagree (E_X0C)\n");
+  a.disagreeing = 0;
+  a.rows = {agrees};
+  EXPECT_EQ(InstrumentAgreementLine(a), "instrument vs piece: 0 of 3 compared parameters disagree\n");
+  EXPECT_EQ(InstrumentAgreementLine(std::nullopt), "");
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline
