@@ -42,7 +42,7 @@ Result<InstrumentResult> ReadIdentified(const std::string& path) {
 Result<InstrumentResult> IdentifyInstrument(const InstrumentReferenceRequest& r) {
   if (IsIdentificationReference(r.path)) return ReadIdentified(r.path);
   if (!IsReferenceInstrument(r.instrument))
-    return Status(StatusCode::kInvalidArgument, "--reference-instrument " + r.instrument + ": expected datum_ball");
+    return Status(StatusCode::kInvalidArgument, "--reference-instrument " + r.instrument + ": expected " + kReferenceInstruments);
   auto ball = RunDatumBallStage({.path = r.path, .machine_path = r.machine_path, .parameters = {}, .ball_part_mm = {}});
   if (!ball.ok()) return ball.status();
   return InstrumentResult{r.instrument, ball->machine, ball->result.parameters};
@@ -110,8 +110,6 @@ std::string UpdateNote(const Prior& prior, const kinematics::PriorUpdate& up, co
 }
 
 }  // namespace
-
-bool IsReferenceInstrument(const std::string& name) { return name == "datum_ball"; }
 
 bool IsIdentificationReference(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

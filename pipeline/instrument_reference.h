@@ -13,6 +13,7 @@
 #include "core/status.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/piece_loader.h"
+#include "pipeline/reference_instruments.h"
 
 namespace tpcal::pipeline {
 
@@ -25,8 +26,6 @@ struct InstrumentReferenceRequest {
   std::string machine_path;  // the piece's machine file ("" = the nominal machine of its type)
 };
 
-// The instruments a raw reference file can come from.
-bool IsReferenceInstrument(const std::string& name);
 // A reference that is an identification tpcal wrote (by its extension, .json).
 bool IsIdentificationReference(const std::string& path);
 

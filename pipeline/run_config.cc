@@ -10,7 +10,7 @@
 #include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
-#include "pipeline/instrument_reference.h"
+#include "pipeline/reference_instruments.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
 
@@ -73,7 +73,7 @@ Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, Pipel
     auto s = As<std::string>(source, r.second, k, k == "file" ? "a path" : "datum_ball");
     if (!s.ok()) return s.status();
     if (k == "instrument" && !IsReferenceInstrument(*s))
-      return ParseErrorAt(source, r.second, "'reference.instrument' '" + EchoInput(*s) + "': expected datum_ball");
+      return ParseErrorAt(source, r.second, "'reference.instrument' '" + EchoInput(*s) + "': expected " + std::string(kReferenceInstruments));
     if (k == "file" && s->empty()) return ParseErrorAt(source, r.second, "'reference.file': expected a path");
     if (k == "instrument") c->reference_instrument = *s;
     if (k == "file") c->reference_file = Resolve(source, *s);
@@ -111,7 +111,7 @@ Status PipelineConfig::Validate() const {
     return Status(StatusCode::kInvalidArgument, "'reference': instrument and file go together", source);
   if (!reference_instrument.empty() && !IsReferenceInstrument(reference_instrument))
     return Status(StatusCode::kInvalidArgument,
-                  "'reference': instrument '" + EchoInput(reference_instrument) + "': expected datum_ball", source);
+                  "'reference': instrument '" + EchoInput(reference_instrument) + "': expected " + std::string(kReferenceInstruments), source);
   if (Status s = scan_cells.Validate(); !s.ok()) return s.WithLocation(source);
   return Status::Ok();
 }
