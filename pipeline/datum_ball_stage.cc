@@ -81,7 +81,7 @@ Result<DatumBallReport> RunDatumBallStage(const DatumBallRequest& r) {
   auto yaml = IdentifiedErrorsYaml(*machine, *result);
   if (!yaml.ok()) return yaml.status();
   return DatumBallReport{r.path, kinematics::MachineTypeName(machine->type), std::move(lines), std::move(*result),
-                         std::move(*yaml)};
+                         std::move(*yaml), r.ball_part_mm.has_value()};
 }
 
 }  // namespace tpcal::pipeline

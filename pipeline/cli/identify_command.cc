@@ -1,6 +1,6 @@
 // tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--anchor FEATURE@X,Y,Z]
 //                [--uncertainty jackknife|analytic|mc|all] [--parameters P,...] [--json OUT]
-//                tpcal identify BALLPOS --instrument datum_ball [--machine M.yaml] [--parameters P,...] [--json OUT]
+//                tpcal identify BALLPOS --instrument datum_ball [--machine M.yaml] [--parameters P,...] [--ball X,Y,Z] [--json OUT]
 #include <CLI/CLI.hpp>
 
 #include <memory>
@@ -10,6 +10,7 @@
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
+#include "pipeline/cli/ball_option.h"
 #include "pipeline/datum_ball_stage.h"
 #include "pipeline/identify_report.h"
 #include "pipeline/io/atomic_file.h"
@@ -27,15 +28,18 @@ struct IdentifyArgs {
   bool no_gap_check = false;
   std::string instrument;  // "" = a test piece; datum_ball = a ball-position file
   std::string errors_out;  // datum_ball: also the identified errors as tpcal.errors/1
+  std::vector<double> ball_mm;  // datum_ball: the known ball centre (--ball X,Y,Z); empty = fitted
 };
 
 int RunDatumBall(const IdentifyArgs& args) {
   if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
     return ReportError(s);
+  auto ball = BallOption(args.ball_mm);
+  if (!ball.ok()) return ReportError(ball.status());
   auto report = pipeline::RunDatumBallStage({.path = args.request.points_path,
                                              .machine_path = args.request.machine_path,
                                              .parameters = args.request.parameters,
-                                             .ball_part_mm = std::nullopt});
+                                             .ball_part_mm = *ball});
   if (!report.ok()) return ReportError(report.status());
   const int exit =
       WriteJsonOrText(args.json, pipeline::DatumBallJson(*report), [&] { return pipeline::DatumBallText(*report); });
@@ -88,6 +92,10 @@ Command RegisterIdentify(CLI::App& app) {
   sub->add_option("--errors-out", args->errors_out,
                   "with --instrument: also write the identified errors as tpcal.errors/1 (for simulate --errors and "
                   "diagnose --reference); errors the plan cannot identify are named in a comment, not written");
+  sub->add_option("--ball", args->ball_mm,
+                  "with --instrument: the ball centre X,Y,Z (mm, part frame) when it is known (e.g. calibrated on a "
+                  "CMM); default: fitted as a nuisance with the errors")
+      ->delimiter(',');
   sub->add_option("--testpiece", args->request.testpiece, "test piece: " + names)->capture_default_str();
   sub->add_option("--config", args->request.config_path, "test-piece configuration YAML (schema tpcal.testpiece/1)");
   sub->add_option("--machine", args->request.machine_path, "machine model YAML (default: nominal ac_table or xyz)");

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/cli/ball_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/datum_ball_simulate_stage.h"
@@ -57,9 +58,10 @@ Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
       return Status(StatusCode::kInvalidArgument,
                     std::string(name) + (ball ? " is a test-piece option, not one of --instrument datum_ball"
                                               : " needs --instrument datum_ball"));
-  if (ball && sub.count("--ball") > 0 && args.ball_mm.size() != 3)
-    return Status(StatusCode::kInvalidArgument,
-                  "--ball: expected X,Y,Z (mm, part frame), got " + std::to_string(args.ball_mm.size()) + " numbers");
+  if (ball) {
+    auto b = BallOption(args.ball_mm);
+    if (!b.ok()) return b.status();
+  }
   return Status::Ok();
 }
 
@@ -70,7 +72,7 @@ int RunDatumBallSimulate(const SimulateArgs& args) {
   request.output_path = args.out;
   if (!args.tilt_deg.empty()) request.plan.tilt_deg = args.tilt_deg;
   if (args.c_step_deg) request.plan.c_step_deg = *args.c_step_deg;
-  if (args.ball_mm.size() == 3) request.plan.ball_part_mm = Eigen::Vector3d(args.ball_mm[0], args.ball_mm[1], args.ball_mm[2]);
+  if (auto b = BallOption(args.ball_mm); b.ok() && b->has_value()) request.plan.ball_part_mm = **b;
   request.noise_um = args.request.noise_um;
   request.seed = args.request.seed;
   request.seconds_per_position = args.seconds_per_position;

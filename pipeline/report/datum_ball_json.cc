@@ -32,7 +32,8 @@ std::string DatumBallJson(const DatumBallReport& report) {
               {"monte_carlo_runs", r.monte_carlo_runs},
               {"iterations", r.iterations}};
   j["ball"] = {{"centre_part_mm", {r.ball_part_mm.x(), r.ball_part_mm.y(), r.ball_part_mm.z()}},
-               {"u_um", {r.ball_u_um.x(), r.ball_u_um.y(), r.ball_u_um.z()}}};
+               {"u_um", {r.ball_u_um.x(), r.ball_u_um.y(), r.ball_u_um.z()}},
+               {"given", report.ball_given}};
   Json res = Json::array();
   for (std::size_t i = 0; i < r.residuals_um.size(); ++i)
     res.push_back({{"line", i < report.lines.size() ? report.lines[i] : 0},
@@ -65,8 +66,11 @@ std::string DatumBallText(const DatumBallReport& report) {
   }
   for (const auto& c : r.identifiability.estimable)
     o += fmt::format("  only the combination {} = {:.3f} +- {:.3f} is determined\n", c.text, c.value, c.u);
-  o += fmt::format("ball centre (part frame): ({:.4f}, {:.4f}, {:.4f}) mm\n", r.ball_part_mm.x(), r.ball_part_mm.y(),
+  o += fmt::format("ball centre (part frame): ({:.4f}, {:.4f}, {:.4f}) mm, ", r.ball_part_mm.x(), r.ball_part_mm.y(),
                    r.ball_part_mm.z());
+  o += report.ball_given ? std::string("given\n")
+                         : fmt::format("fitted (u {:.3f}, {:.3f}, {:.3f} um)\n", r.ball_u_um.x(), r.ball_u_um.y(),
+                                       r.ball_u_um.z());
   return o;
 }
 

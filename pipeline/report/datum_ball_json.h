@@ -19,6 +19,7 @@ struct DatumBallReport {
   // tpcal.errors/1 (kinematics/errors_yaml.md) of the identifiable errors, for `simulate --errors`
   // and `diagnose --reference`; a comment names those left out (not identifiable by the plan).
   std::string errors_yaml;
+  bool ball_given = false;   // the ball centre was given (--ball), not fitted
 };
 
 std::string DatumBallJson(const DatumBallReport& report);
