@@ -301,6 +301,7 @@ TEST(ProbeTouch, ApproachParallelToTheFaceIsNotConverged) {
   const Result<Eigen::Vector3d> c = SimulateTouch(m, e, TouchRotary(0, 0), g, g.centre_mm, {});
   ASSERT_FALSE(c.ok());
   EXPECT_EQ(c.status().code(), StatusCode::kNotConverged);
+  EXPECT_NE(c.status().message().find("parallel"), std::string::npos) << c.status().ToString();
 }
 
 }  // namespace
