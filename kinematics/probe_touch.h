@@ -9,8 +9,9 @@
 // `probe_radius_mm` from the face's plane (normal . q = offset + r), solved for s by Newton. The
 // reported contact is c(s) + (r + pretravel) d: the trigger's uncompensated pre-travel (um)
 // delays the reading along the approach, a constant plus a three-lobed term over the approach's
-// azimuth in the machine XY plane (as a kinematic-resistive probe): p0 + p3 cos(3 phi), phi =
-// atan2(d_y, d_x); for a vertical approach only p0.
+// azimuth in the machine XY plane (as a kinematic-resistive probe): p0 + p3 |d_xy| cos(3 phi),
+// phi = atan2(d_y, d_x); the lobing scales with the approach's horizontal component |d_xy|, so it
+// fades to nothing as the approach turns vertical: a vertical approach gets only p0.
 #pragma once
 
 #include <Eigen/Core>
