@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "core/units.h"
 
@@ -83,6 +84,29 @@ TEST(ProbeArtifactsPlan, AtMinusNinetyTheFacesPointingDownAreSkipped) {
     EXPECT_EQ(s->reason, "faces down");
   }
   EXPECT_EQ(plan->touches.size(), 12u);
+}
+
+// A = -90, C = 60 (worked by hand from machine = RotX(90) RotZ(-60) p_part): part +X and -Y
+// point down (n_z = -0.866, -0.5); the columns lie along machine -Y with column 3's axis at
+// machine (x, z) = (86.6, 50) above column 1's at (50, -86.6). Column 1's +Y face starts its
+// vertical corridor at machine x = 76.9, which passes through column 3 grown by 3 mm; nothing
+// else is in the way.
+TEST(ProbeArtifactsPlan, AtMinusNinetyCSixtyColumnThreeHangsOverColumnOnesYSide) {
+  auto c60 = MakeProbeArtifactsPlan(AcTable(), kinematics::Seed000Artifacts(), {.a_deg = {-90.0}, .c_step_deg = 60.0});
+  ASSERT_TRUE(c60.ok()) << c60.status().ToString();
+  std::vector<SkippedTouch> at60;
+  for (const SkippedTouch& s : c60->skipped)
+    if (s.rotary.c_rad == DegToRad(60.0)) at60.push_back(s);
+  ASSERT_EQ(at60.size(), 7u);
+  for (const SkippedTouch& s : at60) {
+    if (s.face == BoxFace::kPlusX || s.face == BoxFace::kMinusY) {
+      EXPECT_EQ(s.reason, "faces down");
+    } else {
+      EXPECT_EQ(s.artifact, 0);
+      EXPECT_EQ(s.face, BoxFace::kPlusY);
+      EXPECT_EQ(s.reason, "corridor meets artifact 3");
+    }
+  }
 }
 
 // Over the default plan: "faces down" exactly when the machine-frame normal has n_z < -0.1.
