@@ -187,6 +187,11 @@ Result<IrProgram> BuildProbeArtifactsIr(const testpieces::ProbeArtifactsPlan& pl
     for (const testpieces::SkippedTouch& s : plan.skipped) skipped[i] += ArtifactSamePose(s.rotary, plan.poses[i]);
     if (!by_pose[i].empty()) indexed.push_back(plan.poses[i]);
   }
+  std::size_t grouped = 0;
+  for (const auto& touches : by_pose) grouped += touches.size();
+  if (grouped != plan.touches.size())
+    return ArtifactProgramError(std::to_string(plan.touches.size() - grouped) +
+                                " touches at a rotary position that is not one of the plan's poses");
 
   IrProgram prog;
   prog.piece_name = "probe artifacts";

@@ -52,8 +52,9 @@ struct ProbeArtifactsProbeOptions {
 };
 
 // The IR (moves above). The probe is a ToolKind::kTouchProbe of diameter 2 r. Errors: invalid
-// options (kInvalidArgument), a plan with no pose, no touch, a stylus radius <= 0 or a touch
-// naming an artifact the plan does not hold (kInvalidArgument).
+// options (kInvalidArgument), a plan with no pose, no touch, a stylus radius <= 0, a touch
+// naming an artifact the plan does not hold or at a rotary position that is not one of the
+// plan's poses (compared exactly; kInvalidArgument).
 Result<IrProgram> BuildProbeArtifactsIr(const testpieces::ProbeArtifactsPlan& plan,
                                         const kinematics::MachineModel& machine,
                                         const ProbeArtifactsProbeOptions& probe, const GcodeOptions& options);

@@ -287,6 +287,11 @@ TEST(ProbeArtifactsOptions, BadOptionsAndEmptyPlansAreNamed) {
   testpieces::ProbeArtifactsPlan bad = ac.plan;
   bad.touches[0].artifact = 7;
   EXPECT_FALSE(BuildProbeArtifactsIr(bad, ac.machine, {}, o).ok());
+  testpieces::ProbeArtifactsPlan stray = ac.plan;
+  stray.touches[0].rotary.c_rad += DegToRad(1.0);
+  auto s = BuildProbeArtifactsIr(stray, ac.machine, {}, o);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.status().message().find("not one of the plan's poses"), std::string::npos) << s.status().ToString();
 }
 
 }  // namespace
