@@ -4,6 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "core/input_echo.h"
 #include "pipeline/io/file_bytes.h"
 
 namespace tpcal::pipeline {
@@ -21,6 +22,29 @@ std::size_t LineOfByte(std::string_view text, std::size_t byte) {
   return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
 }
 
+// Where the DOM parse failed without saying: nlohmann's number overflow (406, a number beyond a
+// double) is an out_of_range with no position; a second pass through SAX gets its byte.
+class FaultSax : public json::json_sax_t {
+ public:
+  std::size_t byte = 0;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(json::number_integer_t) override { return true; }
+  bool number_unsigned(json::number_unsigned_t) override { return true; }
+  bool number_float(json::number_float_t, const json::string_t&) override { return true; }
+  bool string(json::string_t&) override { return true; }
+  bool binary(json::binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(json::string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&, const json::exception&) override {
+    byte = position;
+    return false;
+  }
+};
+
 std::string StringOr(const json& j, const char* key) {
   auto it = j.find(key);
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
@@ -32,7 +56,7 @@ Result<IdentifiedParameter> ParameterOf(const json& p, std::size_t i, const std:
     return IdParseError(source, where + ": expected an object with a string \"name\"");
   IdentifiedParameter out;
   out.name = p["name"].get<std::string>();
-  const std::string at = where + " (" + out.name + ")";
+  const std::string at = where + " (" + EchoInput(out.name) + ")";
   if (!p.contains("unit") || !p["unit"].is_string()) return IdParseError(source, at + ": expected a string \"unit\"");
   if (!p.contains("identifiable") || !p["identifiable"].is_boolean())
     return IdParseError(source, at + ": expected a boolean \"identifiable\"");
@@ -57,6 +81,11 @@ Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const 
     doc = json::parse(text.begin(), text.end());
   } catch (const json::parse_error& e) {
     return IdParseError(source, "expected JSON (tpcal.identification/1)", LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
+  } catch (const json::out_of_range&) {
+    FaultSax sax;
+    json::sax_parse(text.begin(), text.end(), &sax);
+    return IdParseError(source, "expected JSON (tpcal.identification/1) with numbers within the range of a double",
+                        LineOfByte(text, sax.byte > 0 ? sax.byte - 1 : 0));
   }
   if (!doc.is_object() || StringOr(doc, "schema") != "tpcal.identification/1")
     return IdParseError(source, "expected \"schema\": \"tpcal.identification/1\"");
