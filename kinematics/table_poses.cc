@@ -46,8 +46,7 @@ void PoseAddDistinct(std::vector<double>* grid, double v, double tol) {
 }
 
 Status PoseTouchError(const ProbeTouch& t, const std::string& what) {
-  return Status(StatusCode::kInvalidArgument,
-                (t.line ? "line " + std::to_string(t.line) + ": " : std::string()) + what);
+  return Status(StatusCode::kInvalidArgument, what, {}, t.line);
 }
 
 Status CheckPoseTouches(const ArtifactSet& artifacts, std::span<const ProbeTouch> touches) {

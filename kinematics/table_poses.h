@@ -74,7 +74,7 @@ struct TablePoseFit {
 };
 
 // Errors: kInvalidArgument (an artifact index out of range, an approach not unit, u_um < 0 or
-// given for some touches only, the reference position without touches; the touch's line named),
+// given for some touches only, the reference position without touches; Status::line() the touch's),
 // kTooFewPoints (touches <= rank).
 Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet& artifacts,
                                    std::span<const ProbeTouch> touches, const TablePoseOptions& options = {});

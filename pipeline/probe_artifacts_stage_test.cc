@@ -1,0 +1,133 @@
+// The identification stage of a probing test of artifacts (pipeline/probe_artifacts_stage.h).
+// Truth: location errors and error motions of the A/C table (below), seed 000's default plan
+// (testpieces/probe_artifacts_plan.h: A 0, -30, -60, -90 deg, C every 60 deg, the touches the
+// probe reaches) through the virtual touch (kinematics/probe_touch.h), noise-free and written
+// with 17 digits. The maps it writes as tpcal.errors/1, read back and put through the chain,
+// give the identified poses again: the maps are exact at their nodes, the separation is linear, so
+// they agree to second order, (50 urad)^2 x 300 mm + 50 urad x 20 um = 2e-3 um.
+#include "pipeline/probe_artifacts_stage.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/units.h"
+#include "kinematics/errors_yaml.h"
+#include "kinematics/probe_touch.h"
+#include "kinematics/table_poses.h"
+#include "pipeline/io/probepts_io.h"
+#include "testpieces/probe_artifacts_plan.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+kinematics::MachineModel PaStageMachine() {
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  EXPECT_TRUE(m.ok());
+  return *m;
+}
+
+kinematics::ErrorState PaStageTruth(const kinematics::MachineModel& m) {
+  auto e = kinematics::ParseErrorState(
+      "E_X0C_um: 10\nE_B0A_urad: -20\nE_Y0A_um: 6\n"
+      "effects:\n"
+      "  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, 0], values_urad: [35, 0], periodic: false}\n"
+      "  - rotary_error_motion: {symbol: E_XC, harmonics: [{order: 2, cos_um: 1.5, sin_um: -0.8}]}\n",
+      "truth.yaml", m);
+  EXPECT_TRUE(e.ok()) << e.status().ToString();
+  return *e;
+}
+
+// The plan's touches simulated under `truth`, as a probed-point file.
+std::string PaStageFile(const kinematics::MachineModel& m, const kinematics::ErrorState& truth) {
+  auto plan = testpieces::MakeProbeArtifactsPlan(m, kinematics::Seed000Artifacts());
+  EXPECT_TRUE(plan.ok());
+  ProbePointFile file;
+  file.rotary_axes = {'A', 'C'};
+  for (const testpieces::PlannedTouch& t : plan->touches) {
+    const kinematics::FaceGeometry g = kinematics::FaceOf(plan->artifacts.boxes[t.artifact], t.face);
+    auto c = kinematics::SimulateTouch(m, truth, t.rotary, g, t.target_part_mm, kinematics::TouchOptions{});
+    EXPECT_TRUE(c.ok());
+    ProbePointRow row;
+    row.rotary_deg = {{'A', RadToDeg(t.rotary.a_rad)}, {'C', RadToDeg(t.rotary.c_rad)}};
+    row.artifact = plan->artifacts.boxes[t.artifact].name;
+    row.face = kinematics::BoxFaceName(t.face);
+    row.point_mm = *c;
+    row.approach = t.approach;
+    file.rows.push_back(row);
+  }
+  return FormatProbePoints(file);
+}
+
+ProbeArtifactsRequest PaStageRequest(const std::string& path, const std::string& machine_path = "") {
+  ProbeArtifactsRequest r;
+  r.path = path;
+  r.machine_path = machine_path;
+  return r;
+}
+
+std::string PaStageWrite(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "tpcal_probe_artifacts_stage";
+  fs::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return (dir / name).string();
+}
+
+TEST(ProbeArtifactsStage, TheWrittenMapsReproduceTheIdentifiedPoses) {
+  const kinematics::MachineModel m = PaStageMachine();
+  const kinematics::ErrorState truth = PaStageTruth(m);
+  auto report = RunProbeArtifactsStage(PaStageRequest(PaStageWrite("sim.csv", PaStageFile(m, truth))));
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->result.poses.poses.size(), 24u);
+  EXPECT_TRUE(report->result.maps.not_identifiable.empty());
+  for (const kinematics::TablePose& p : report->result.poses.poses) {
+    kinematics::AxisState s, ref;
+    s.a_rad = DegToRad(p.a_deg);
+    s.c_rad = DegToRad(p.c_deg);
+    const kinematics::Vector6d exact = kinematics::TablePoseError(m, truth, s, ref);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(p.value(c), exact(c), 5e-3) << p.a_deg << " " << p.c_deg << " " << c;
+  }
+  auto maps = kinematics::ParseErrorState(report->errors_yaml, "maps.yaml", m);
+  ASSERT_TRUE(maps.ok()) << maps.status().ToString();
+  for (const kinematics::TablePose& p : report->result.poses.poses) {
+    kinematics::AxisState s;
+    s.a_rad = DegToRad(p.a_deg);
+    s.c_rad = DegToRad(p.c_deg);
+    const kinematics::Vector6d again = kinematics::AbsoluteTablePoseError(m, *maps, s);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(again(c), p.value(c), 2e-3) << p.a_deg << " " << p.c_deg << " " << c;
+  }
+  EXPECT_NE(report->errors_yaml.find("zero-mean"), std::string::npos);
+}
+
+TEST(ProbeArtifactsStage, UnknownArtifactOrFaceNamesItsLine) {
+  const kinematics::MachineModel m = PaStageMachine();
+  std::string text = PaStageFile(m, kinematics::ErrorState(m));
+  const std::size_t third = text.find('\n', text.find('\n', text.find('\n') + 1) + 1) + 1;  // the first row
+  std::string bad_face = text;
+  bad_face.replace(bad_face.find(",+X,", third), 4, ",+W,");
+  auto r = RunProbeArtifactsStage(PaStageRequest(PaStageWrite("bad_face.csv", bad_face)));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_GT(r.status().line(), 3u);
+  EXPECT_NE(r.status().message().find("+W"), std::string::npos);
+  std::string bad_box = text;
+  bad_box.replace(bad_box.find(",1,", third), 3, ",9,");
+  r = RunProbeArtifactsStage(PaStageRequest(PaStageWrite("bad_box.csv", bad_box)));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("'9'"), std::string::npos);
+  EXPECT_GT(r.status().line(), 3u);
+}
+
+TEST(ProbeArtifactsStage, AMachineOtherThanAnACTableIsRefused) {
+  const kinematics::MachineModel m = PaStageMachine();
+  const std::string path = PaStageWrite("ok.csv", PaStageFile(m, kinematics::ErrorState(m)));
+  auto r = RunProbeArtifactsStage(PaStageRequest(path, std::string(TPCAL_SOURCE_DIR) + "/samples/machines/bc_table.yaml"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("A/C table"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
