@@ -71,7 +71,14 @@ std::string PaValueU(bool identifiable, double value, double u) {
 // Text lines naming what the touches cannot determine: pose components, then map entries.
 std::vector<std::string> PaNotIdentifiableLines(const ProbeArtifactsReport& report) {
   std::vector<std::string> out;
-  for (const TablePose& p : report.result.poses.poses)
+  const TablePoseFit& fit = report.result.poses;
+  for (double a : fit.a_deg)
+    for (double c : fit.c_deg)
+      if (std::none_of(fit.poses.begin(), fit.poses.end(), [&](const TablePose& p) {
+            return std::abs(p.a_deg - a) < kPaSameDeg && std::abs(p.c_deg - c) < kPaSameDeg;
+          }))
+        out.push_back(fmt::format("position A {:g} deg, C {:g} deg: no touches", a, c));
+  for (const TablePose& p : fit.poses)
     for (int c = 0; c < 6; ++c)
       if (!p.identifiable[static_cast<std::size_t>(c)])
         out.push_back(fmt::format("pose {} at A {:g} deg, C {:g} deg", kinematics::kPoseComponents[c], p.a_deg,
@@ -298,13 +305,13 @@ std::string PaMapFigure(const kinematics::ErrorMaps& maps, const std::string& sy
   y_hi = std::ceil(y_hi / y_step) * y_step;
   if (y_hi - y_lo < y_step) y_hi = y_lo + y_step;
 
-  const double W = 600, H = 320, left = 70, right = c_map ? 110 : 20, top = 34, bottom = 46;
+  const double W = 600, H = 320, left = 60, right = c_map ? 110 : 20, top = 40, bottom = 40;
   const double pw = W - left - right, ph = H - top - bottom;
   auto px = [&](double x) { return left + (x - x_lo) / (x_hi - x_lo) * pw; };
   auto py = [&](double y) { return top + (y_hi - y) / (y_hi - y_lo) * ph; };
   const char* angle = c_map ? "C" : "A";
   SvgWriter svg(W, H, fmt::format("{} over {}", symbol, angle), kPaCss);
-  svg.Text(12, 20,
+  svg.Text(12, 16,
            fmt::format("{} ({}) over {}: identified values, shaded 95 % interval", symbol, c_map ? "C-axis map" : "A-axis map",
                        angle),
            "pa-ttl");
@@ -312,15 +319,14 @@ std::string PaMapFigure(const kinematics::ErrorMaps& maps, const std::string& sy
     svg.Line(left, py(y), left + pw, py(y), "pa-grid");
     svg.Text(left - 6, py(y) + 3, fmt::format("{:g}", std::abs(y) < 1e-9 * y_step ? 0.0 : y), "pa-sm", "end");
   }
-  const double x_step = NiceStep(x_hi - x_lo, 6);
-  for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi + 1e-9 * x_step; x += x_step) {
+  for (double x : xs) {  // ticks at the measured positions (the nodes)
     svg.Line(px(x), top, px(x), top + ph, "pa-grid");
-    svg.Text(px(x), top + ph + 14, fmt::format("{:g}", std::abs(x) < 1e-9 * x_step ? 0.0 : x), "pa-sm", "middle");
+    svg.Text(px(x), top + ph + 14, fmt::format("{:g}", x), "pa-sm", "middle");
   }
   svg.Rect(left, top, pw, ph, "pa-ax");
   if (y_lo < 0.0 && y_hi > 0.0) svg.Line(left, py(0.0), left + pw, py(0.0), "pa-zero");
-  svg.Text(left + pw / 2, H - 8, fmt::format("{} (deg)", angle), "pa-lbl", "middle");
-  svg.Text(14, top + ph / 2, fmt::format("{} ({})", symbol, unit), "pa-lbl", "start");
+  svg.Text(left + pw / 2, H - 10, fmt::format("{} (deg)", angle), "pa-lbl", "middle");
+  svg.Text(left - 6, top - 6, fmt::format("{} ({})", symbol, unit), "pa-lbl", "start");
 
   for (std::size_t k = 0; k < series.size(); ++k) {
     const int style = static_cast<int>(k % kPaStyles);

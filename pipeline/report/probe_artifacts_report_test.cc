@@ -277,6 +277,7 @@ TEST(ProbeArtifactsReport, UnprobedPositionIsNamedAndGetsNoNumber) {
     EXPECT_EQ(row[1], "-");
   }
   for (const std::string& name : r.maps.not_identifiable) EXPECT_NE(t.find("  " + name + "\n"), std::string::npos);
+  EXPECT_NE(t.find("  position A -30 deg, C 60 deg: no touches\n"), std::string::npos);
   EXPECT_EQ(t.find("not identifiable: none"), std::string::npos);
   EXPECT_NE(ProbeArtifactsHtml(report).find(XmlEscape(r.maps.not_identifiable.front())), std::string::npos);
 }
