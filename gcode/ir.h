@@ -76,7 +76,8 @@ struct TableSpin {
 
 // One touch of a touch probe: a feed move from `start` (the approach point) toward `end` (the
 // expected contact plus an overtravel) that stops when the stylus triggers (LinuxCNC G38.2, Fanuc
-// G31, Sinumerik MEAS=1, Heidenhain TCH PROBE 0). Machine axes, one linear axis moving.
+// G31, Sinumerik MEAS=1, Heidenhain TCH PROBE 0 along one machine axis, cycle 4 MEASURING IN 3-D
+// along any other direction). Machine axes.
 struct ProbeMove {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, machine frame: the probing direction
   Eigen::Vector3d contact_mm = Eigen::Vector3d::Zero();  // tool reference point at the nominal contact

@@ -111,13 +111,23 @@ Result<ErrorMaps> SeparateTablePoses(const MachineModel& model, const TablePoseF
     rhs(r) = pose.reference ? 0.0 : pose.value(data_rows[r] % 6);
     if (!pose.reference) rhs_cov_map(r, data_rows[r]) = 1.0;
   }
-  // C maps are terms 6..11; their coefficient index is j * nc + i for C node i, A node j.
+  // C maps are terms 6..11; their coefficient index is j * nc + i for C node i, A node j. The mean
+  // is over the C positions probed at that A (a position without touches stays undetermined
+  // alone instead of leaving the whole row of its A without numbers).
+  std::vector<bool> probed(na * nc, false);
+  for (const TablePose& p : fit.poses) {
+    for (int j = 0; j < na; ++j)
+      for (int i = 0; i < nc; ++i)
+        if (std::abs(fit.a_deg[j] - p.a_deg) < 1e-9 && std::abs(fit.c_deg[i] - p.c_deg) < 1e-9) probed[j * nc + i] = true;
+  }
   int first_c = 0;
   while (first_c < ne && maps.coefficient_info(first_c).term < 6) ++first_c;
   for (int d = 0; d < 6; ++d) {
     for (int j = 0; j < na; ++j) {
       const int row = static_cast<int>(data_rows.size()) + d * na + j;
-      for (int i = 0; i < nc; ++i) s(row, first_c + d * na * nc + j * nc + i) = 1.0;
+      for (int i = 0; i < nc; ++i) {
+        if (probed[j * nc + i]) s(row, first_c + d * na * nc + j * nc + i) = 1.0;
+      }
     }
   }
   Eigen::VectorXd scale(ne);

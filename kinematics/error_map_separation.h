@@ -9,7 +9,7 @@
 // kinematics/conventions.h, not the paper's printed eq. 11, which assumes pivots at the origin).
 // The equations: G(p) e = measured pose for every determined pose component, G(ref) e = 0 (the
 // reference pose is zero by definition, table_poses.h), and seed 000's eq. 1: at every A the C
-// maps sum to zero over C (their constant part belongs to the A maps). With the full grid the
+// maps sum to zero over the C positions probed there (their constant part belongs to the A maps). With the full grid the
 // system is square; it is solved by SVD (scaled columns) and the covariance propagated from the
 // poses' (linear, exact). Entries the system leaves undetermined (a position never probed, a pose
 // component no touch saw) get no number and are named.

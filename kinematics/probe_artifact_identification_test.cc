@@ -255,6 +255,21 @@ TEST(ProbeArtifacts, APoseComponentNoTouchSeesIsNamed) {
   for (const std::string& name : r->maps.not_identifiable) EXPECT_NE(name.find("(A -30"), std::string::npos) << name;
 }
 
+// A position without touches (A -30, C 60): only its six C-map entries
+// lose their number; the zero mean runs over the other five C positions at A -30.
+TEST(ProbeArtifacts, APositionWithoutTouchesLosesOnlyItsOwnEntries) {
+  const MachineModel m = PaMachine();
+  std::vector<ProbeTouch> touches = PaTouches(m, PaRandomTruth(m, 3), 0.0, 1);
+  std::erase_if(touches, [](const ProbeTouch& t) {
+    return std::abs(t.rotary.a_rad + 30.0 * kDegP) < 1e-9 && std::abs(t.rotary.c_rad - 60.0 * kDegP) < 1e-9;
+  });
+  auto r = IdentifyProbeArtifacts(m, Seed000Artifacts(), touches);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_EQ(r->poses.poses.size(), 23u);
+  ASSERT_EQ(r->maps.not_identifiable.size(), 6u);
+  for (const std::string& name : r->maps.not_identifiable) EXPECT_NE(name.find("(A -30, C 60)"), std::string::npos) << name;
+}
+
 TEST(ProbeArtifacts, MissingReferenceAndMixedUncertaintiesAreErrors) {
   const MachineModel m = PaMachine();
   std::vector<ProbeTouch> touches = PaTouches(m, ErrorState(m), 0.0, 1);

@@ -6,12 +6,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/cli/ball_option.h"
 #include "pipeline/datum_ball_stage.h"
+#include "pipeline/probe_artifacts_stage.h"
 #include "pipeline/identify_report.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/report/identify_json.h"
@@ -29,7 +31,38 @@ struct IdentifyArgs {
   std::string instrument;  // "" = a test piece; datum_ball = a ball-position file
   std::string errors_out;  // datum_ball: also the identified errors as tpcal.errors/1
   std::vector<double> ball_mm;  // datum_ball: the known ball centre (--ball X,Y,Z); empty = fitted
+  std::string artifacts;   // probe_artifacts: the artifact YAML ("" = seed 000's three columns)
+  std::string html;        // probe_artifacts: the page with the error-map figures
+  std::vector<double> reference_pose_deg = {0.0, 0.0};  // probe_artifacts: A, C of the zero pose
 };
+
+int RunProbeArtifacts(const IdentifyArgs& args) {
+  if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}, {"--html", args.html}});
+      !s.ok())
+    return ReportError(s);
+  if (args.reference_pose_deg.size() != 2) {
+    return ReportError(Status(StatusCode::kInvalidArgument, "--reference-pose: expected A,C in degrees"));
+  }
+  pipeline::ProbeArtifactsRequest request;
+  request.path = args.request.points_path;
+  request.artifacts_path = args.artifacts;
+  request.machine_path = args.request.machine_path;
+  request.reference_a_deg = args.reference_pose_deg[0];
+  request.reference_c_deg = args.reference_pose_deg[1];
+  auto report = pipeline::RunProbeArtifactsStage(request);
+  if (!report.ok()) return ReportError(report.status());
+  const int exit = WriteJsonOrText(args.json, pipeline::ProbeArtifactsJson(*report),
+                                   [&] { return pipeline::ProbeArtifactsText(*report); });
+  if (exit != kExitOk) return exit;
+  for (const auto& [path, text, what] :
+       {std::tuple{args.errors_out, report->errors_yaml, "tpcal.errors/1"},
+        std::tuple{args.html, pipeline::ProbeArtifactsHtml(*report), "HTML"}}) {
+    if (path.empty()) continue;
+    if (Status s = pipeline::WriteFileAtomic(path, text); !s.ok()) return ReportError(s);
+    Info("wrote " + path + " (" + what + ")");
+  }
+  return kExitOk;
+}
 
 int RunDatumBall(const IdentifyArgs& args) {
   if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
@@ -51,6 +84,7 @@ int RunDatumBall(const IdentifyArgs& args) {
 
 int RunIdentify(const IdentifyArgs& args) {
   if (args.instrument == "datum_ball") return RunDatumBall(args);
+  if (args.instrument == "probe_artifacts") return RunProbeArtifacts(args);
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
   pipeline::IdentifyRequest request = args.request;
@@ -79,7 +113,8 @@ Command RegisterIdentify(CLI::App& app) {
       "with the combinations that are determined. Uncertainty k = 1; 95 % intervals.");
   sub->add_option("POINTS", args->request.points_path,
                   "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm), or with --instrument datum_ball "
-                  "a ball-position file (tpcal ballpos v1)")
+                  "a ball-position file (tpcal ballpos v1), with --instrument probe_artifacts a probed-point file "
+                  "(tpcal probepts v1)")
       ->required();
   sub->add_option("--instrument", args->instrument,
                   "datum_ball: POINTS holds datum-ball centres at rotary commands (touch probe, R-test); the location "
@@ -87,8 +122,24 @@ Command RegisterIdentify(CLI::App& app) {
                   "ball centre fitted as a nuisance; --machine is the B/C or A/C table (default: the nominal one "
                   "the file's rotary columns name); a u_um column weights each reading (residual / u_um); u by "
                   "analytic, jackknife and Monte Carlo (200 re-identifications, seed 1). `tpcal simulate "
-                  "--instrument datum_ball` writes such a file")
-      ->check(CLI::IsMember({"datum_ball"}));
+                  "--instrument datum_ball` writes such a file.\n"
+                  "probe_artifacts: POINTS holds touches on artifacts fixed to an A/C table at indexed A x C "
+                  "positions (seed 000); the table pose at every position (um, urad, relative to the reference "
+                  "pose), then the error maps of the A axis (E_XA..E_CA over A) and of the C axis (E_XC..E_CC over "
+                  "C at every A, zero mean over C) with u (k = 1) and 95 % intervals; what the plan cannot "
+                  "determine is named. `tpcal simulate --instrument probe_artifacts` writes such a file")
+      ->check(CLI::IsMember({"datum_ball", "probe_artifacts"}));
+  sub->add_option("--artifacts", args->artifacts,
+                  "with --instrument probe_artifacts: the artifacts (tpcal.artifacts/1 YAML, part frame, mm); "
+                  "default: seed 000's three 30 x 30 x 60 mm columns at (100, 0), (-100, 0), (0, 100)");
+  sub->add_option("--reference-pose", args->reference_pose_deg,
+                  "with --instrument probe_artifacts: A,C (deg) of the position whose table pose is zero by "
+                  "definition (the artifacts are located there)")
+      ->delimiter(',')
+      ->capture_default_str();
+  sub->add_option("--html", args->html,
+                  "with --instrument probe_artifacts: an offline page with each error map against its angle "
+                  "(95 % bands)");
   sub->add_option("--errors-out", args->errors_out,
                   "with --instrument: also write the identified errors as tpcal.errors/1 (for simulate --errors and "
                   "diagnose --reference); errors the plan cannot identify are named in a comment, not written");
