@@ -123,6 +123,27 @@ TEST(Ballbar, CTableLocationErrorGivesOneLobeOnARadialBar) {
   }
 }
 
+// The other C-table kinds pin their directions. E_Y0C = +e moves the table ball +e in machine Y;
+// tangential (d = Z x X = +Y on the part), sense +1: bar = L0 RotZ(-C) Y - e Y with
+// RotZ(-C) Y = (sin C, cos C, 0), length = sqrt(L0^2 - 2 L0 e cos C + e^2). E_Z0C = +e lifts
+// the table ball; axial (d = +Z), sense +1: bar = (L0 - e) Z, dl = -e at every C.
+TEST(Ballbar, CTableTangentialAndAxialDirections) {
+  constexpr double e_um = 10.0, L0 = 150.0;
+  const double ee = UmToMm(e_um);
+  const MachineModel m = BbMachine(MachineType::kBheadCtable);
+  ErrorState ey(m), ez(m);
+  ASSERT_TRUE(ey.SetParameter(m, "E_Y0C", ee).ok());
+  ASSERT_TRUE(ez.SetParameter(m, "E_Z0C", ee).ok());
+  const auto tangential = BbInstall(BallbarKind::kTangential, Axis::kC, {100, 0, 50}, {0, 0, 0}, L0);
+  const auto axial = BbInstall(BallbarKind::kAxial, Axis::kC, {0, 0, 50}, {0, 0, 0}, L0);
+  for (double c = 0.0; c <= 360.0; c += 20.0) {
+    const double cos_c = std::cos(DegToRad(c));
+    EXPECT_NEAR(BbDl(m, ey, tangential, c), MmToUm(std::sqrt(L0 * L0 - 2.0 * L0 * ee * cos_c + ee * ee) - L0),
+                kBbExactTol_um) << "C " << c;
+    EXPECT_NEAR(BbDl(m, ez, axial, c), -e_um, kBbExactTol_um) << "C " << c;
+  }
+}
+
 // E_X0B = +e on the B head: the head (and the tool ball with it) moves +e in machine X. Radial,
 // sense -1: bar = L0 RotY(B) Z + e X = L0 (sin B, 0, cos B) + e X, so
 // length = sqrt(L0^2 + 2 L0 e sin B + e^2): dl = e sin B to first order (seed 003 eq. 28: the
