@@ -27,6 +27,9 @@ namespace {
 
 constexpr double kBbiTZeroTol = 1e-9;
 constexpr double kBbiTNoise_um = 0.5;
+// Second-order remainder of the axial bar: the lateral motion of the tool ball, |delta| + |eps|
+// * 200 mm <~ 14 um, gives |lateral|^2 / (2 * 150 mm) <~ 7e-4 um.
+constexpr double kBbiTSecondOrder_um = 1e-3;
 constexpr double kBbiTAmplitude_um = 5.0, kBbiTAmplitude_urad = 10.0;
 constexpr char kBbiTDirections[6] = {'X', 'Y', 'Z', 'A', 'B', 'C'};
 
@@ -151,8 +154,8 @@ TEST(BallbarIdentification, RandomTruthWithinItsUncertainty) {
   EXPECT_EQ(r->convention_dependent, 108);
   ASSERT_TRUE(r->sigma_known);
   const Eigen::VectorXd visible = BbiTVisibleTruth(*r, truth);
-  // The brief's "orders >= 2 are not confounded" holds for E_ZC and E_CC only: order 2 of
-  // E_XC, E_YC, E_AC, E_BC puts a first harmonic into the radial / tangential combinations.
+  // Orders >= 2 are free of the centring for E_ZC and E_CC only: order 2 of E_XC, E_YC, E_AC,
+  // E_BC puts a first harmonic into the radial / tangential combinations (printed, not asserted).
   Eigen::VectorXd full(visible.size());
   for (int e = 0; e < full.size(); ++e) {
     int d = 0;
@@ -195,6 +198,37 @@ TEST(BallbarIdentification, Coverage95Over200Tests) {
   std::printf("95 %% intervals: coverage %.2f %% over %ld entries in 200 tests\n", 100.0 * coverage, total);
   EXPECT_GE(coverage, 0.93);
   EXPECT_LE(coverage, 0.97);
+}
+
+// One axial installation without set-up terms: 18 readings for the 18 E_ZC nodes (dof 0, so
+// sigma is unknown and no u is given); the other five motions do not reach the bar to first
+// order and are named.
+TEST(BallbarIdentification, AxialAloneDeterminesOnlyTheAxialTranslation) {
+  const MachineModel m = BbiTMachine();
+  const auto all = BbiTCInstallations(m);
+  const std::vector<BallbarGeometry> gs = {all[2]};
+  ASSERT_EQ(gs[0].installation.kind, BallbarKind::kAxial);
+  std::mt19937_64 rng(3033);
+  const BbiTTruth truth = BbiTRandomTruth(m, rng);
+  const auto readings = BbiTSimulate(m, truth.errors, gs, &rng, 0.0);
+  BallbarIdentificationOptions o;
+  o.fit_length_offsets = false;
+  o.fit_centring = false;
+  auto r = IdentifyBallbar(m, gs, readings, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->rank, 18);
+  EXPECT_EQ(r->dof, 0);
+  EXPECT_FALSE(r->sigma_known);
+  ASSERT_EQ(r->not_identifiable.size(), 90u);
+  EXPECT_EQ(r->not_identifiable[0], "E_XC(C 0)");
+  EXPECT_EQ(r->not_identifiable[19], "E_YC(C 20)");
+  for (const BallbarErrorEntry& e : r->entries) {
+    EXPECT_EQ(e.identifiable, e.symbol == "E_ZC") << e.coefficient;
+    EXPECT_EQ(e.u, 0.0) << e.coefficient;
+    if (e.identifiable) {  // the other motions reach the axial bar at second order only
+      EXPECT_NEAR(e.value, truth.At(2, e.angle_deg), kBbiTSecondOrder_um) << e.coefficient;
+    }
+  }
 }
 
 TEST(BallbarIdentification, RejectsAnInstallationOfAnotherAxis) {
