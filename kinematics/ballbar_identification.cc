@@ -259,6 +259,64 @@ std::vector<std::string> BbiNameFamilies(const BbiSystem& sys, Axis axis, const 
   return out;
 }
 
+// Step 3: the minimum-norm solution x_mn = w U_r^T y of the scaled system, w = D V_r S_r^-1 (so
+// the covariance is sigma^2 w w^T), and the null directions, unscaled (zero columns included).
+struct BbiSolution {
+  int rank = 0;
+  Eigen::VectorXd x_mn;
+  Eigen::MatrixXd w, null;
+};
+
+BbiSolution BbiSolve(const BbiSystem& sys, double rank_tolerance) {
+  const int nx = static_cast<int>(sys.a.cols());
+  Eigen::VectorXd scale(nx);
+  for (int c = 0; c < nx; ++c) {
+    const double n = sys.a.col(c).norm();
+    scale(c) = n > 0.0 ? 1.0 / n : 0.0;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(sys.a * scale.asDiagonal(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  BbiSolution out;
+  while (out.rank < sv.size() && sv(out.rank) > rank_tolerance * sv(0)) ++out.rank;
+  const Eigen::MatrixXd& v = svd.matrixV();
+  out.w = scale.asDiagonal() * v.leftCols(out.rank) * sv.head(out.rank).cwiseInverse().asDiagonal();
+  out.x_mn = out.w * (svd.matrixU().leftCols(out.rank).transpose() * sys.y);
+  out.null = scale.asDiagonal() * v.rightCols(nx - out.rank);
+  for (int c = 0; c < nx; ++c) {  // a zero column (scale 0) is null too
+    if (scale(c) > 0.0) continue;
+    out.null.conservativeResize(Eigen::NoChange, out.null.cols() + 1);
+    out.null.col(out.null.cols() - 1) = Eigen::VectorXd::Unit(nx, c);
+  }
+  return out;
+}
+
+// Step 4: qb, an orthonormal basis of the error part of the null space; t, the map from any
+// least-squares solution to the one with no error component along qb (t = I - N (qb^T N_e)^+
+// qb^T E); setup_only, the set-up part of the null directions without an error part.
+struct BbiConvention {
+  Eigen::MatrixXd qb, t, setup_only;
+};
+
+BbiConvention BbiApplyConvention(const BbiSolution& sol, int ne) {
+  const int nx = static_cast<int>(sol.x_mn.size());
+  BbiConvention out;
+  out.qb.resize(ne, 0);
+  out.t = Eigen::MatrixXd::Identity(nx, nx);
+  out.setup_only.resize(nx - ne, 0);
+  if (sol.null.cols() == 0) return out;
+  const Eigen::MatrixXd null_e = sol.null.topRows(ne);
+  Eigen::JacobiSVD<Eigen::MatrixXd> ns(null_e, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  const Eigen::VectorXd& nsv = ns.singularValues();
+  int k = 0;
+  while (k < nsv.size() && nsv(k) > kBbiSpanTol * nsv(0)) ++k;
+  out.qb = ns.matrixU().leftCols(k);
+  out.setup_only = sol.null.bottomRows(nx - ne) * ns.matrixV().rightCols(sol.null.cols() - k);
+  if (k == 0) return out;
+  const Eigen::MatrixXd qn = out.qb.transpose() * null_e;
+  out.t.leftCols(ne) -= sol.null * qn.completeOrthogonalDecomposition().pseudoInverse() * out.qb.transpose();
+  return out;
+}
+
 }  // namespace
 
 Status BallbarIdentificationOptions::Validate() const {
@@ -288,57 +346,20 @@ Result<BallbarIdentification> IdentifyBallbar(const MachineModel& model,
   TPCAL_RETURN_IF_ERROR(BbiDesign(model, installations, readings, &out.errors, &sys));
   const int nn = static_cast<int>(sys.nodes_deg.size()), ne = 6 * nn;
   const int nx = static_cast<int>(sys.a.cols()), nr = static_cast<int>(sys.a.rows());
-  // 3. Scaled SVD least squares: the minimum-norm solution, its covariance, the null space.
-  Eigen::VectorXd scale(nx);
-  for (int c = 0; c < nx; ++c) {
-    const double n = sys.a.col(c).norm();
-    scale(c) = n > 0.0 ? 1.0 / n : 0.0;
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(sys.a * scale.asDiagonal(), Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  int rank = 0;
-  while (rank < sv.size() && sv(rank) > options.rank_tolerance * sv(0)) ++rank;
-  const Eigen::MatrixXd v = svd.matrixV();
-  const Eigen::MatrixXd w = scale.asDiagonal() * v.leftCols(rank) * sv.head(rank).cwiseInverse().asDiagonal();
-  const Eigen::VectorXd x_mn = w * (svd.matrixU().leftCols(rank).transpose() * sys.y);
-  const Eigen::MatrixXd null = scale.asDiagonal() * v.rightCols(nx - rank);  // unscaled directions
-  Eigen::MatrixXd null_all = null;  // zero columns are null too (scale 0)
-  for (int c = 0; c < nx; ++c) {
-    if (scale(c) > 0.0) continue;
-    null_all.conservativeResize(Eigen::NoChange, null_all.cols() + 1);
-    null_all.col(null_all.cols() - 1) = Eigen::VectorXd::Unit(nx, c);
-  }
-  out.rows = nr, out.unknowns = nx, out.rank = rank, out.dof = nr - rank;
-  const Eigen::VectorXd resid = sys.y - sys.a * x_mn;
+  // 3. Scaled SVD least squares; 4. the convention on the null space.
+  const BbiSolution sol = BbiSolve(sys, options.rank_tolerance);
+  out.rows = nr, out.unknowns = nx, out.rank = sol.rank, out.dof = nr - sol.rank;
+  const Eigen::VectorXd resid = sys.y - sys.a * sol.x_mn;
   for (int r = 0; r < nr; ++r) out.residuals_um.push_back(resid(r));
   out.sigma_known = out.dof > 0;
   out.sigma_um = out.sigma_known ? std::sqrt(resid.squaredNorm() / out.dof) : 0.0;
-  // 4. The convention: no component along the error part of the null space (basis qb).
-  Eigen::MatrixXd qb(ne, 0);
-  if (null_all.cols() > 0) {
-    Eigen::JacobiSVD<Eigen::MatrixXd> ns(null_all.topRows(ne), Eigen::ComputeThinU);
-    int k = 0;
-    while (k < ns.singularValues().size() && ns.singularValues()(k) > kBbiSpanTol * ns.singularValues()(0)) ++k;
-    qb = ns.matrixU().leftCols(k);
-  }
-  Eigen::MatrixXd t = Eigen::MatrixXd::Identity(nx, nx);
-  if (qb.cols() > 0) {
-    const Eigen::MatrixXd qn = qb.transpose() * null_all.topRows(ne);
-    t -= null_all * qn.completeOrthogonalDecomposition().pseudoInverse() * qb.transpose() *
-         Eigen::MatrixXd::Identity(nx, nx).topRows(ne);
-  }
-  const Eigen::VectorXd x = t * x_mn;
-  const Eigen::MatrixXd cov = out.sigma_um * out.sigma_um * (t * w * w.transpose() * t.transpose());
+  const BbiConvention conv = BbiApplyConvention(sol, ne);
+  const Eigen::VectorXd x = conv.t * sol.x_mn;
+  const Eigen::MatrixXd cov = out.sigma_um * out.sigma_um * (conv.t * sol.w * sol.w.transpose() * conv.t.transpose());
   out.covariance = cov.topLeftCorner(ne, ne);
-  out.not_separable_basis = qb;
-  // Set-up terms touched by a null direction with no error part are not identifiable.
-  Eigen::MatrixXd setup_only(nx - ne, 0);
-  if (null_all.cols() > 0) {
-    Eigen::JacobiSVD<Eigen::MatrixXd> ne_svd(null_all.topRows(ne), Eigen::ComputeFullV);
-    int k = 0;
-    while (k < ne_svd.singularValues().size() && ne_svd.singularValues()(k) > kBbiSpanTol) ++k;
-    setup_only = null_all.bottomRows(nx - ne) * ne_svd.matrixV().rightCols(null_all.cols() - k);
-  }
+  out.not_separable_basis = conv.qb;
+  const Eigen::MatrixXd& qb = conv.qb;
+  const Eigen::MatrixXd& setup_only = conv.setup_only;
   // 5. Entries, set-up terms, the words.
   const double k95 = out.dof > 0 ? internal::StudentTQuantile975(out.dof) : 0.0;
   std::vector<std::string> entry_names;
