@@ -317,6 +317,44 @@ BbiConvention BbiApplyConvention(const BbiSolution& sol, int ne) {
   return out;
 }
 
+// Step 5: the entries of `out->errors` (value, u, interval, flags) from the solution x and its
+// covariance; returns their names "E_XC(C 40)".
+std::vector<std::string> BbiFillEntries(const BbiSystem& sys, Axis axis, const Eigen::VectorXd& x,
+                                        const Eigen::MatrixXd& cov, const Eigen::MatrixXd& qb,
+                                        BallbarIdentification* out) {
+  const int ne = 6 * static_cast<int>(sys.nodes_deg.size());
+  const double k95 = out->dof > 0 ? internal::StudentTQuantile975(out->dof) : 0.0;
+  std::vector<std::string> entry_names;
+  for (int e = 0; e < ne; ++e) {
+    const CoefficientInfo& info = out->errors.coefficient_info(e);
+    BallbarErrorEntry x_e;
+    x_e.symbol = out->errors.terms()[info.term].label;
+    x_e.coefficient = info.name;
+    x_e.angle_deg = sys.nodes_deg[info.index];
+    x_e.unit = info.unit;
+    entry_names.push_back(x_e.symbol + "(" + std::string(1, AxisLetter(axis)) + " " + BbiDeg(x_e.angle_deg) + ")");
+    const double in_span = qb.cols() > 0 ? qb.row(e).squaredNorm() : 0.0;
+    x_e.identifiable = in_span < 1.0 - kBbiRowTol;
+    x_e.convention_dependent = in_span > kBbiRowTol;
+    if (x_e.convention_dependent) ++out->convention_dependent;
+    if (x_e.identifiable) {
+      x_e.value = x(e);
+      out->errors.set_coefficient(e, x_e.value / info.display_per_internal);
+      if (out->sigma_known) {
+        x_e.u = std::sqrt(std::max(0.0, cov(e, e)));
+        x_e.ci95_low = x_e.value - k95 * x_e.u;
+        x_e.ci95_high = x_e.value + k95 * x_e.u;
+      }
+    } else {
+      out->covariance.row(e).setZero();
+      out->covariance.col(e).setZero();
+      out->not_identifiable.push_back(entry_names.back());
+    }
+    out->entries.push_back(std::move(x_e));
+  }
+  return entry_names;
+}
+
 }  // namespace
 
 Status BallbarIdentificationOptions::Validate() const {
@@ -361,35 +399,7 @@ Result<BallbarIdentification> IdentifyBallbar(const MachineModel& model,
   const Eigen::MatrixXd& qb = conv.qb;
   const Eigen::MatrixXd& setup_only = conv.setup_only;
   // 5. Entries, set-up terms, the words.
-  const double k95 = out.dof > 0 ? internal::StudentTQuantile975(out.dof) : 0.0;
-  std::vector<std::string> entry_names;
-  for (int e = 0; e < ne; ++e) {
-    const CoefficientInfo& info = out.errors.coefficient_info(e);
-    BallbarErrorEntry x_e;
-    x_e.symbol = out.errors.terms()[info.term].label;
-    x_e.coefficient = info.name;
-    x_e.angle_deg = sys.nodes_deg[info.index];
-    x_e.unit = info.unit;
-    entry_names.push_back(x_e.symbol + "(" + std::string(1, AxisLetter(options.axis)) + " " + BbiDeg(x_e.angle_deg) + ")");
-    const double in_span = qb.cols() > 0 ? qb.row(e).squaredNorm() : 0.0;
-    x_e.identifiable = in_span < 1.0 - kBbiRowTol;
-    x_e.convention_dependent = in_span > kBbiRowTol;
-    if (x_e.convention_dependent) ++out.convention_dependent;
-    if (x_e.identifiable) {
-      x_e.value = x(e);
-      out.errors.set_coefficient(e, x_e.value / info.display_per_internal);
-      if (out.sigma_known) {
-        x_e.u = std::sqrt(std::max(0.0, cov(e, e)));
-        x_e.ci95_low = x_e.value - k95 * x_e.u;
-        x_e.ci95_high = x_e.value + k95 * x_e.u;
-      }
-    } else {
-      out.covariance.row(e).setZero();
-      out.covariance.col(e).setZero();
-      out.not_identifiable.push_back(entry_names.back());
-    }
-    out.entries.push_back(std::move(x_e));
-  }
+  const std::vector<std::string> entry_names = BbiFillEntries(sys, options.axis, x, cov, qb, &out);
   for (std::size_t s = 0; s < sys.setup.size(); ++s) {
     BallbarSetupTerm term = sys.setup[s];
     const int c = ne + static_cast<int>(s);
