@@ -6,6 +6,16 @@
 // frame, n_z < -0.1), or whose approach corridor (the stylus ball swept from `clearance_mm`
 // off the face to the contact, then straight up to the safe height) meets another box (inflated
 // by the stylus radius) or the table (the part-frame half-space z < table_z_mm).
+//
+// Corridor, exactly (nominal machine, the stylus vertical: tool along machine +Z; n the face's
+// outward normal in the machine frame, c the contact, r the stylus radius): the ball centre moves
+// on c + r n -> s = c + (r + clearance_mm) n (checked against every OTHER box), then s -> s +
+// 1000 mm machine +Z (checked against every box, the touched one included). A leg is blocked when
+// it passes through the interior of a box grown by r along each of its own axes (a slab test;
+// grazing within 1e-9 mm does not count) or comes closer than r to the table (part z < table_z_mm
+// + r). The first blocked leg names the reason; artifact N is the box's name (its 1-based index
+// if the name is empty). The stylus shaft is not modelled (a face with -0.1 <= n_z < 0 overhangs
+// it slightly); the NC program (gcode/probe_artifacts_program.h) moves along these corridors.
 #pragma once
 
 #include <Eigen/Core>
