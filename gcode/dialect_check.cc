@@ -208,6 +208,12 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
   const std::regex kG(R"((^| )G\d)");
   const std::regex kProbe0(R"(TCH PROBE 0\.0 REF\. PLANE Q\d+ [XYZ][+-])");
   const std::regex kProbe1("TCH PROBE 0\\.1 X" + s + " Y" + s + " Z" + s);
+  // Cycle 4 MEASURING IN 3-D: four blocks in order (4.0 .. 4.3).
+  const std::vector<std::regex> kProbe3d = {
+      std::regex(R"(TCH PROBE 4\.0 MEASURING IN 3-D)"), std::regex(R"(TCH PROBE 4\.1 Q\d+)"),
+      std::regex("TCH PROBE 4\\.2 IX" + s + " IY" + s + " IZ" + s),
+      std::regex("TCH PROBE 4\\.3 ABST" + s + " F" + u + " MB" + u + " BASE[01]")};
+  std::size_t probe3d_next = 0;  // index of the cycle-4 block expected next (0: none pending)
   std::set<int> m_ok = {3, 4, 5, 7, 8, 9, 30, 99, 128, 129, o.c_spindle.orient_mcode, o.c_spindle.heidenhain_start_mcode,
                         o.c_spindle.heidenhain_start_mcode + 1};
   if (o.c_spindle.mode_on_mcode >= 0) {
@@ -260,6 +266,17 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     if (std::regex_search(body, kG)) return BadCheck(line, "G-words do not exist in Klartext: '" + body + "'");
     ++rep.words;
     std::smatch m;
+    if (probe3d_next > 0) {
+      if (!std::regex_match(body, kProbe3d[probe3d_next])) {
+        return BadCheck(line, "expected TCH PROBE 4." + std::to_string(probe3d_next) + " of cycle 4, got '" + body + "'");
+      }
+      probe3d_next = (probe3d_next + 1) % kProbe3d.size();
+      continue;
+    }
+    if (std::regex_match(body, kProbe3d[0])) {
+      probe3d_next = 1;
+      continue;
+    }
     if (std::regex_match(body, kEnd) || std::regex_match(body, kBlk1) || std::regex_match(body, kBlk2) ||
         std::regex_match(body, kTool) || std::regex_match(body, kCC) || std::regex_match(body, kC) ||
         std::regex_match(body, kAngle) || std::regex_match(body, kDwell) || std::regex_match(body, kSpin) ||
@@ -284,7 +301,7 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
     }
     return BadCheck(line, "block '" + body + "' is not in the Heidenhain subset");
   }
-  if (!q_expected.empty()) return BadCheck(static_cast<int>(lines.size()), "unfinished cycle definition");
+  if (!q_expected.empty() || probe3d_next > 0) return BadCheck(static_cast<int>(lines.size()), "unfinished cycle definition");
   if (!std::regex_match(last_body, kEnd)) return BadCheck(last_line, "the program must end with END PGM " + o.program_name + " MM");
   return rep;
 }

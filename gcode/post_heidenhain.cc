@@ -194,20 +194,51 @@ class HeidenhainPost : public PostBase {
     }
   }
 
-  // Touch probe cycle 0 (REF. PLANE): rapid to the pre-positioning point (TCH PROBE 0.1, the
-  // approach point), probe along one axis at the probe table's feed, store the coordinate in Q<n>,
-  // retract to the pre-positioning point. The probing distance is the probe table's DIST.
+  // A probe move along one machine axis: touch probe cycle 0 (REF. PLANE): rapid to the
+  // pre-positioning point (TCH PROBE 0.1, the approach point), probe along that axis at the probe
+  // table's feed, store the coordinate in Q<n>, retract to the pre-positioning point. The probing
+  // distance is the probe table's DIST.
+  // Any other direction: touch probe cycle 4 (MEASURING IN 3-D) from the current point (the
+  // approach point the IR's rapids reached): 4.1 the first of three result parameters (X, Y, Z of
+  // the stylus-ball centre, no length or radius compensation), 4.2 the direction vector (the
+  // programmed path to the target, mm), 4.3 the maximum measuring path ABST (approach +
+  // overtravel), the feed F, the retraction MB (= ABST: back to the start, which the TNC never
+  // passes) and BASE0 (results in the active coordinate system, as cycle 0's).
   void Probe(const Instr& in) {
     const Eigen::Vector3d& d = in.probe.direction;
     int axis = 0;
     d.cwiseAbs().maxCoeff(&axis);
     if (std::abs(std::abs(d[axis]) - 1.0) > 1e-12) {
-      Fail({StatusCode::kInvalidArgument, "Heidenhain: touch probe cycle 0 probes along one machine axis only"});
+      Probe3d(in);
       return;
     }
     Block("TCH PROBE 0.0 REF. PLANE Q" + std::to_string(in.probe.result) + " " + std::string(1, "XYZ"[axis]) +
           (d[axis] > 0 ? "+" : "-"));
     Block("TCH PROBE 0.1 " + AxisWords(in.start, 0x7, /*force=*/true));
+    ForgetFeed();
+  }
+
+  // Cycle 4's result parameters of touch n: Q(30 + 3 (n - 1)) .. +2, clear of cycle 0's Q<n>
+  // (n < 30) and within the user range Q0..Q99 (n <= 23).
+  static constexpr int kProbe3dFirstQ = 30;
+  static constexpr int kProbe3dLastQ = 99;
+
+  void Probe3d(const Instr& in) {
+    const int q = kProbe3dFirstQ + 3 * (in.probe.result - 1);
+    if (in.probe.result < 1 || q + 2 > kProbe3dLastQ) {
+      Fail({StatusCode::kInvalidArgument, "Heidenhain: touch " + std::to_string(in.probe.result) +
+                                              " of a position: touch probe cycle 4's results Q" + std::to_string(q) +
+                                              ".. leave Q" + std::to_string(kProbe3dFirstQ) + "..Q" +
+                                              std::to_string(kProbe3dLastQ)});
+      return;
+    }
+    const Eigen::Vector3d path(in.end.x_mm - in.start.x_mm, in.end.y_mm - in.start.y_mm, in.end.z_mm - in.start.z_mm);
+    Block("TCH PROBE 4.0 MEASURING IN 3-D");
+    Block("TCH PROBE 4.1 Q" + std::to_string(q));
+    Block("TCH PROBE 4.2 IX" + Lin(path.x()) + " IY" + Lin(path.y()) + " IZ" + Lin(path.z()));
+    const std::string dist = FormatNumber(path.norm(), o_.linear_decimals, NumberStyle::kPlain);
+    Block("TCH PROBE 4.3 ABST+" + dist + " F" + F(in.feed_mm_per_min, 3) + " MB" + dist + " BASE0");
+    ForgetAxes(0x7);  // the retract to the start is written in full
     ForgetFeed();
   }
 

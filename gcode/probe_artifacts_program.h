@@ -20,9 +20,9 @@
 // 5 <= 10 mm). Safe Z: `safe_clearance_mm` above the highest of (every box corner over the poses
 // and the index sweeps between them, sampled every degree, + r) and every start point.
 //
-// Heidenhain's touch-probe cycle 0 probes along one machine axis only: the Heidenhain post
-// refuses a plan with an oblique approach (a C step that is not a multiple of 90 deg, a tilted
-// A other than -90 deg); the G-code dialects post any direction.
+// Heidenhain posts a touch along one machine axis with touch-probe cycle 0 (result Q<n>) and an
+// oblique one (a C that is not a multiple of 90 deg, a tilted A other than -90 deg) with cycle 4
+// MEASURING IN 3-D (results Q(30 + 3 (n - 1))..+2); the G-code dialects post any direction.
 #pragma once
 
 #include <string>
@@ -52,8 +52,9 @@ struct ProbeArtifactsProbeOptions {
 };
 
 // The IR (moves above). The probe is a ToolKind::kTouchProbe of diameter 2 r. Errors: invalid
-// options (kInvalidArgument), a plan with no pose, no touch, a stylus radius <= 0 or a touch
-// naming an artifact the plan does not hold (kInvalidArgument).
+// options (kInvalidArgument), a plan with no pose, no touch, a stylus radius <= 0, a touch
+// naming an artifact the plan does not hold or at a rotary position that is not one of the
+// plan's poses (compared exactly; kInvalidArgument).
 Result<IrProgram> BuildProbeArtifactsIr(const testpieces::ProbeArtifactsPlan& plan,
                                         const kinematics::MachineModel& machine,
                                         const ProbeArtifactsProbeOptions& probe, const GcodeOptions& options);
@@ -70,7 +71,7 @@ struct PostedProbeArtifacts {
 // Builds the IR, posts it in options.dialect, checks every target against the machine's strokes
 // (options.safety.check_strokes; the error names the block) and the dialect whitelist
 // (gcode/dialect_check.h). Errors: those of BuildProbeArtifactsIr, PostIr (Heidenhain: an oblique
-// approach), the checks.
+// touch numbered beyond 23 within its pose), the checks.
 Result<PostedProbeArtifacts> PostProbeArtifactsProgram(const testpieces::ProbeArtifactsPlan& plan,
                                                        const kinematics::MachineModel& machine,
                                                        const ProbeArtifactsProbeOptions& probe,

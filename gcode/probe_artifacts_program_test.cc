@@ -103,16 +103,87 @@ INSTANTIATE_TEST_SUITE_P(GDialects, ProbeArtifactsDialect,
                          ::testing::Values(Dialect::kLinuxCnc, Dialect::kFanuc, Dialect::kSinumerik),
                          [](const auto& info) { return std::string(DialectName(info.param)); });
 
-// Heidenhain's cycle 0 probes along one machine axis: the default plan (C every 60 deg) is
-// refused; upright columns with C every 90 deg (every approach along X, Y or -Z) post, one
-// REF. PLANE per touch, Q1..Q15 per pose.
-TEST(ProbeArtifactsHeidenhain, AxisAlignedPlansPostAndObliqueOnesAreRefused) {
+// Heidenhain posts a touch along one machine axis with cycle 0 (REF. PLANE, result Q<n>) and any
+// other with cycle 4 (MEASURING IN 3-D, results Q(30 + 3 (n - 1)) .. +2). The default plan (C every
+// 60 deg, A tilted) posts with one cycle-4 block group per oblique approach and one cycle-0 group
+// per axis-parallel one, counted here from the plan's approaches; each cycle 4 probes along its
+// approach over approach + overtravel (7 mm).
+TEST(ProbeArtifactsHeidenhain, DefaultPlanPostsObliqueTouchesWithCycle4AndAxisParallelOnesWithCycle0) {
   const GcodeOptions o = ArtifactOptions(Dialect::kHeidenhain);
-  const ArtifactCase oblique = SeedArtifactCase();
-  auto refused = PostProbeArtifactsProgram(oblique.plan, oblique.machine, {}, o);
-  ASSERT_FALSE(refused.ok());
-  EXPECT_NE(refused.status().ToString().find("one machine axis only"), std::string::npos) << refused.status().ToString();
+  const ArtifactCase ac = SeedArtifactCase();
+  const ProbeArtifactsProbeOptions probe;
+  int oblique = 0, parallel = 0;
+  std::vector<const testpieces::PlannedTouch*> oblique_touches;
+  for (const testpieces::PlannedTouch& t : ac.plan.touches) {
+    const bool axis_parallel = std::abs(t.approach.cwiseAbs().maxCoeff() - 1.0) <= 1e-12;
+    (axis_parallel ? parallel : oblique) += 1;
+    if (!axis_parallel) oblique_touches.push_back(&t);
+  }
+  ASSERT_GT(oblique, 0);
+  ASSERT_GT(parallel, 0);  // e.g. the tops at A 0
+  auto p = PostProbeArtifactsProgram(ac.plan, ac.machine, probe, o);
+  ASSERT_TRUE(p.ok()) << p.status().ToString();
+  ASSERT_TRUE(CheckDialectSyntax(p->program_text, o).ok());
+  const std::string& t = p->program_text;
+  EXPECT_EQ(CountArtifactMatches(t, std::regex(R"(\n\d+ TCH PROBE 4\.0 MEASURING IN 3-D\n)")), oblique);
+  EXPECT_EQ(CountArtifactMatches(t, std::regex(R"(TCH PROBE 4\.3 ABST\+7 F200 MB7 BASE0\n)")), oblique);
+  EXPECT_EQ(CountArtifactMatches(t, std::regex(R"(TCH PROBE 0\.0 REF\. PLANE Q[0-9]+ [XYZ][+-]\n)")), parallel);
+  EXPECT_EQ(CountArtifactMatches(t, std::regex(R"(TCH PROBE 0\.1 X[-+0-9.]+ Y[-+0-9.]+ Z[-+0-9.]+\n)")), parallel);
 
+  // Each cycle 4 in plan order: its result parameter from the touch's number within the pose, its
+  // direction vector along the approach, 7 mm long (4 decimals per component).
+  std::vector<int> numbers;  // the touch number within its pose of each oblique touch
+  for (std::size_t k = 0, n = 0; k < ac.plan.touches.size(); ++k) {
+    const testpieces::PlannedTouch& tk = ac.plan.touches[k];
+    const bool new_pose = k == 0 || ac.plan.touches[k - 1].rotary.a_rad != tk.rotary.a_rad ||
+                          ac.plan.touches[k - 1].rotary.c_rad != tk.rotary.c_rad;
+    n = new_pose ? 1 : n + 1;
+    if (std::abs(tk.approach.cwiseAbs().maxCoeff() - 1.0) > 1e-12) numbers.push_back(static_cast<int>(n));
+  }
+  const std::regex cycle4(R"(TCH PROBE 4\.1 Q([0-9]+)\n\d+ TCH PROBE 4\.2 IX([-+0-9.]+) IY([-+0-9.]+) IZ([-+0-9.]+)\n)");
+  std::size_t i = 0;
+  for (auto it = std::sregex_iterator(t.begin(), t.end(), cycle4); it != std::sregex_iterator(); ++it, ++i) {
+    ASSERT_LT(i, oblique_touches.size());
+    EXPECT_EQ(std::stoi((*it)[1]), 30 + 3 * (numbers[i] - 1)) << "cycle 4 #" << i;
+    const Eigen::Vector3d v(std::stod((*it)[2]), std::stod((*it)[3]), std::stod((*it)[4]));
+    const Eigen::Vector3d expected = (probe.approach_mm + probe.overtravel_mm) * oblique_touches[i]->approach;
+    EXPECT_LT((v - expected).norm(), 2 * kArtNcTol_mm) << "cycle 4 #" << i;
+  }
+  EXPECT_EQ(i, oblique_touches.size());
+
+  // The whitelist takes cycle 4's four blocks in order only.
+  std::string swapped = t;
+  swapped.replace(swapped.find("TCH PROBE 4.1 Q"), 15, "TCH PROBE 4.2 Q");
+  auto bad = CheckDialectSyntax(swapped, o);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().ToString().find("expected TCH PROBE 4.1"), std::string::npos) << bad.status().ToString();
+}
+
+// Cycle 4's three result parameters of touch n stay within Q30..Q99: touch 24 of a pose is refused.
+TEST(ProbeArtifactsHeidenhain, Cycle4ResultsBeyondQ99AreRefused) {
+  const ArtifactCase ac = SeedArtifactCase();
+  const GcodeOptions o = ArtifactOptions(Dialect::kHeidenhain);
+  auto ir = BuildProbeArtifactsIr(ac.plan, ac.machine, {}, o);
+  ASSERT_TRUE(ir.ok()) << ir.status().ToString();
+  Instr* oblique = nullptr;
+  for (Instr& in : ir->instrs)
+    if (in.kind == InstrKind::kProbe && std::abs(in.probe.direction.cwiseAbs().maxCoeff() - 1.0) > 1e-12) {
+      oblique = &in;
+      break;
+    }
+  ASSERT_NE(oblique, nullptr);
+  oblique->probe.result = 23;  // Q96..Q98
+  ASSERT_TRUE(PostIr(*ir, o).ok());
+  oblique->probe.result = 24;  // Q99..Q101
+  auto refused = PostIr(*ir, o);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().ToString().find("Q99"), std::string::npos) << refused.status().ToString();
+}
+
+// Upright columns with C every 90 deg (every approach along X, Y or -Z) post as before: one
+// REF. PLANE per touch, Q1..Q15 per pose, no cycle 4.
+TEST(ProbeArtifactsHeidenhain, AxisAlignedPlansPostWithCycle0Only) {
+  const GcodeOptions o = ArtifactOptions(Dialect::kHeidenhain);
   const ArtifactCase aligned = SeedArtifactCase({.a_deg = {0.0}, .c_step_deg = 90.0});
   ASSERT_EQ(aligned.plan.touches.size(), 4u * 15u);
   auto p = PostProbeArtifactsProgram(aligned.plan, aligned.machine, {}, o);
@@ -121,6 +192,7 @@ TEST(ProbeArtifactsHeidenhain, AxisAlignedPlansPostAndObliqueOnesAreRefused) {
   EXPECT_EQ(CountArtifactMatches(p->program_text, std::regex(R"(TCH PROBE 0\.0 REF\. PLANE Q[0-9]+ [XYZ][+-])")), 60);
   EXPECT_EQ(CountArtifactMatches(p->program_text, std::regex(R"(TCH PROBE 0\.1 X[-+0-9.]+ Y[-+0-9.]+ Z[-+0-9.]+)")), 60);
   EXPECT_EQ(CountArtifactMatches(p->program_text, std::regex(R"(PLANE Q15 Z-)")), 4);  // box 3's top, last
+  EXPECT_EQ(CountArtifactMatches(p->program_text, std::regex(R"(TCH PROBE 4\.)")), 0);
 }
 
 // The IR's touches: the ball centre at contact + r n, the start `approach` further out, the
@@ -287,6 +359,11 @@ TEST(ProbeArtifactsOptions, BadOptionsAndEmptyPlansAreNamed) {
   testpieces::ProbeArtifactsPlan bad = ac.plan;
   bad.touches[0].artifact = 7;
   EXPECT_FALSE(BuildProbeArtifactsIr(bad, ac.machine, {}, o).ok());
+  testpieces::ProbeArtifactsPlan stray = ac.plan;
+  stray.touches[0].rotary.c_rad += DegToRad(1.0);
+  auto s = BuildProbeArtifactsIr(stray, ac.machine, {}, o);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.status().message().find("not one of the plan's poses"), std::string::npos) << s.status().ToString();
 }
 
 }  // namespace
