@@ -131,15 +131,20 @@ TEST(ProbeArtifactsPlanStage, BadInputNamesTheOptionOrFileLine) {
   auto no_nc = RunProbeArtifactsPlanStage(r);
   ASSERT_FALSE(no_nc.ok());
   EXPECT_NE(no_nc.status().ToString().find("--dialect needs --nc PROGRAM"), std::string::npos);
-  // Heidenhain's cycle 0 probes along one axis: C every 60 deg gives oblique approaches.
-  r = ProbePlanTestRequest();
-  r.nc.output = "PA.h";
-  auto heidenhain = RunProbeArtifactsPlanStage(r);
-  ASSERT_FALSE(heidenhain.ok());
-  EXPECT_EQ(heidenhain.status().file(), "PA.h") << heidenhain.status().ToString();
-  // A malformed artifact file: file:line.
+  // A stroke violation names the block at the program's path: the sample A/C table's strokes
+  // cannot reach a column 2 m off the table centre.
   const auto dir = std::filesystem::temp_directory_path() / "tpcal_probe_plan_stage_test";
   std::filesystem::create_directories(dir);
+  const std::string far = (dir / "far.yaml").string();
+  std::ofstream(far) << "artifacts:\n  - {name: \"far\", base_centre_mm: [2000, 0, 0], size_mm: [30, 30, 60]}\n";
+  r = ProbePlanTestRequest();
+  r.machine_path = std::string(TPCAL_SOURCE_DIR) + "/samples/machines/ac_table.yaml";
+  r.artifacts_path = far;
+  r.nc.output = "PA.ngc";
+  auto strokes = RunProbeArtifactsPlanStage(r);
+  ASSERT_FALSE(strokes.ok());
+  EXPECT_EQ(strokes.status().file(), "PA.ngc") << strokes.status().ToString();
+  // A malformed artifact file: file:line.
   const std::string artifacts = (dir / "a.yaml").string();
   std::ofstream(artifacts) << "schema: tpcal.artifacts/1\nartifacts:\n  - {name: \"1\", base_centre_mm: [100, 0, 0], "
                               "size_mm: [30, 0, 60]}\n";

@@ -233,8 +233,7 @@ Command RegisterPlan(CLI::App& app) {
                   "also gets PROGRAM.tbl");
   sub->add_option("--dialect", b.nc.dialect,
                   "controller of --nc: fanuc, linuxcnc, sinumerik, heidenhain; default: from the extension of --nc "
-                  "(.nc, .ngc, .mpf, .h); Heidenhain probes along one machine axis only (probe_artifacts: C steps of "
-                  "90 deg, A 0 or -90 deg)");
+                  "(.nc, .ngc, .mpf, .h)");
   sub->add_option("--post", b.nc.post_path, "post options YAML for --nc (schema tpcal.gcode/1)");
   sub->add_option("--date", b.nc.date, "header date of --nc, YYYY-MM-DD or none; default: today (UTC)");
   return {sub, [args] { return RunPlan(*args); }};
