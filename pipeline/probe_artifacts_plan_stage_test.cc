@@ -16,6 +16,7 @@
 
 #include "core/units.h"
 #include "kinematics/error_state.h"
+#include "kinematics/probe_artifact_identification.h"
 #include "kinematics/probe_touch.h"
 
 namespace tpcal::pipeline {
@@ -79,6 +80,43 @@ TEST(ProbeArtifactsPlanStage, NominalContactIsTheErrorFreeTouch) {
     ASSERT_TRUE(c.ok()) << c.status().ToString();
     EXPECT_LE((*c - t.contact_mm).cwiseAbs().maxCoeff(), kProbePlanTouchExact_mm);
   }
+}
+
+// The plan is what an error-free machine reports: read back and identified
+// (kinematics::IdentifyProbeArtifacts), every identifiable map entry is zero within 4 u (u from
+// the file's 0.1 um rounding) + 1e-3 um / urad for the printed digits.
+TEST(ProbeArtifactsPlanStage, PlanIdentifiesAnErrorFreeMachine) {
+  auto r = RunProbeArtifactsPlanStage(ProbePlanTestRequest());
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  auto file = ParseProbePoints(r->csv, "plan.csv");
+  ASSERT_TRUE(file.ok());
+  const kinematics::ArtifactSet artifacts = kinematics::Seed000Artifacts();
+  std::vector<kinematics::ProbeTouch> touches;
+  for (const ProbePointRow& row : file->rows) {
+    kinematics::ProbeTouch t;
+    t.rotary.a_rad = DegToRad(row.rotary_deg.at('A'));
+    t.rotary.c_rad = DegToRad(row.rotary_deg.at('C'));
+    t.artifact = artifacts.Find(row.artifact);
+    ASSERT_GE(t.artifact, 0) << row.artifact;
+    auto face = kinematics::BoxFaceFromName(row.face);
+    ASSERT_TRUE(face.has_value()) << row.face;
+    t.face = *face;
+    t.contact_mm = row.point_mm;
+    t.approach = row.approach;
+    t.line = row.line;
+    touches.push_back(t);
+  }
+  auto m = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  ASSERT_TRUE(m.ok());
+  auto id = kinematics::IdentifyProbeArtifacts(*m, artifacts, touches);
+  ASSERT_TRUE(id.ok()) << id.status().ToString();
+  int identified = 0;
+  for (const kinematics::ErrorMapEntry& e : id->maps.entries) {
+    if (!e.identifiable) continue;
+    ++identified;
+    EXPECT_LT(std::abs(e.value), 4.0 * e.u + 1e-3) << e.coefficient << " " << e.value << " +- " << e.u;
+  }
+  EXPECT_GT(identified, 0);
 }
 
 // A -90 deg, C 0: the columns lie on their side; the face turned down is skipped, named in a line.
