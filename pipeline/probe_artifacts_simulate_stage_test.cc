@@ -17,6 +17,7 @@
 #include "core/portable_random.h"
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
+#include "kinematics/table_poses.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -80,6 +81,32 @@ TEST(ProbeArtifactsSimulate, TouchesAreTheVirtualTouchesPlusTheStatedNoise) {
   EXPECT_NE(sim->truth_yaml.find("E_X0C_um: 10"), std::string::npos) << sim->truth_yaml;
   EXPECT_NE(sim->truth_yaml.find("symbol: E_AA"), std::string::npos) << sim->truth_yaml;
   EXPECT_NE(sim->truth_yaml.find("artifacts:\n  "), std::string::npos) << sim->truth_yaml;
+}
+
+// End to end: the noise-free touches, fitted as table poses (kinematics::FitTablePoses), give the
+// exact table pose error of the stated errors relative to A = C = 0 (kinematics::TablePoseError)
+// at every pose: every error here moves the table rigidly, so only the fit's first order is off:
+// (35 urad)^2 x 150 mm = 2e-4 um, and a rotation over a 30 mm lever arm 7e-3 urad; 0.02 allowed.
+TEST(ProbeArtifactsSimulate, FittedTablePosesAreTheStatedErrors) {
+  const ProbeSimCase c = ProbeSimMachine();
+  auto sim = SimulateProbeArtifacts(c.machine, c.errors, kinematics::Seed000Artifacts(), ProbeArtifactsSimRequest{});
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  auto fit = kinematics::FitTablePoses(c.machine, sim->plan.artifacts, sim->touches);
+  ASSERT_TRUE(fit.ok()) << fit.status().ToString();
+  ASSERT_EQ(fit->poses.size(), 24u);
+  int compared = 0;
+  for (const kinematics::TablePose& pose : fit->poses) {
+    kinematics::AxisState rotary;
+    rotary.a_rad = DegToRad(pose.a_deg), rotary.c_rad = DegToRad(pose.c_deg);
+    const kinematics::Vector6d truth = kinematics::TablePoseError(c.machine, c.errors, rotary, kinematics::AxisState{});
+    for (int k = 0; k < 6; ++k) {
+      if (!pose.identifiable[k]) continue;
+      ++compared;
+      EXPECT_NEAR(pose.value(k), truth(k), 0.02) << "A " << pose.a_deg << " C " << pose.c_deg << " "
+                                                 << kinematics::kPoseComponents[k];
+    }
+  }
+  EXPECT_GT(compared, 100);
 }
 
 // Pre-travel p0 moves every reading by p0 along its approach (kinematics/probe_touch.h), the same
