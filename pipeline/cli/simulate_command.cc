@@ -4,10 +4,16 @@
 // tpcal simulate --instrument datum_ball [--machine M.yaml] --errors E.yaml [--noise-um S] [--seed N]
 //                [--tilt-deg T,...] [--c-step-deg D] [--ball X,Y,Z] [--seconds-per-position S]
 //                -o BALLPOS.csv [--truth TRUTH.yaml]
+// tpcal simulate --instrument probe_artifacts [--machine M.yaml] --errors E.yaml [--artifacts A.yaml]
+//                [--noise-um S] [--seed N] [--tilt-deg A,...] [--c-step-deg D] [--probe-radius-mm R]
+//                [--pretravel-um P0] [--pretravel-lobing-um P3] [--seconds-per-touch S]
+//                -o PROBEPTS.csv [--truth TRUTH.yaml]
 //
 // Virtual machining and measurement of a test piece (pipeline/simulate_stage.h): a `tpcal points
 // v1` CSV (docs/formats/points.md); or the virtual datum-ball instrument
-// (pipeline/datum_ball_simulate_stage.h): a `tpcal ballpos v1` CSV (docs/formats/ballpos.md).
+// (pipeline/datum_ball_simulate_stage.h): a `tpcal ballpos v1` CSV (docs/formats/ballpos.md); or
+// the virtual probing test of artifacts (pipeline/probe_artifacts_simulate_stage.h): a `tpcal
+// probepts v1` CSV (docs/formats/probepts.md).
 // Optionally the stated truth.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -23,6 +29,7 @@
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/io/atomic_file.h"
+#include "pipeline/probe_artifacts_simulate_stage.h"
 #include "pipeline/simulate_stage.h"
 
 namespace tpcal::cli {
@@ -33,31 +40,54 @@ struct SimulateArgs {
   pipeline::SimulateRequest request;
   std::string out;
   std::string truth;
-  std::string instrument;  // "" = a test piece; datum_ball = the virtual datum-ball instrument
+  std::string instrument;  // "" = a test piece; datum_ball; probe_artifacts
   std::vector<double> tilt_deg, ball_mm;
   std::optional<double> c_step_deg;
   double seconds_per_position = 60.0;
+  // probe_artifacts only
+  std::string artifacts;
+  kinematics::TouchOptions touch;
+  double seconds_per_touch = 10.0;
 };
 
 // Options of one path given on the other: their names, for the message.
 const char* const kPieceOnly[] = {"--config", "--density", "--levels", "--process", "--placement",
                                   "--max-translation-mm", "--probe-radius-error-um"};
-const char* const kBallOnly[] = {"--tilt-deg", "--c-step-deg", "--ball", "--seconds-per-position"};
+const char* const kBallOnly[] = {"--ball", "--seconds-per-position"};
+const char* const kProbeOnly[] = {"--artifacts", "--probe-radius-mm", "--pretravel-um", "--pretravel-lobing-um",
+                                  "--seconds-per-touch"};
+const char* const kInstrumentOnly[] = {"--tilt-deg", "--c-step-deg"};  // both instruments
 
 Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
-  const bool ball = !args.instrument.empty();
-  if (ball && !args.piece.testpiece.empty())
+  const bool instrument = !args.instrument.empty();
+  const bool ball = args.instrument == "datum_ball";
+  if (instrument && !args.piece.testpiece.empty())
     return Status(StatusCode::kInvalidArgument,
                   "--testpiece and --instrument: give one (a test piece to machine and measure, or an instrument)");
-  if (!ball && args.piece.testpiece.empty())
-    return Status(StatusCode::kInvalidArgument, "--testpiece NAME (or --instrument datum_ball) is required");
-  if (!ball && args.piece.machine.empty())
+  if (!instrument && args.piece.testpiece.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "--testpiece NAME (or --instrument datum_ball or probe_artifacts) is required");
+  if (!instrument && args.piece.machine.empty())
     return Status(StatusCode::kInvalidArgument, "--machine is required with --testpiece");
-  for (const char* name : ball ? std::span<const char* const>(kPieceOnly) : std::span<const char* const>(kBallOnly))
-    if (sub.count(name) > 0)
+  auto named = [&](std::span<const char* const> names) -> const char* {
+    for (const char* name : names)
+      if (sub.count(name) > 0) return name;
+    return nullptr;
+  };
+  if (instrument) {
+    if (const char* n = named(kPieceOnly))
       return Status(StatusCode::kInvalidArgument,
-                    std::string(name) + (ball ? " is a test-piece option, not one of --instrument datum_ball"
-                                              : " needs --instrument datum_ball"));
+                    std::string(n) + " is a test-piece option, not one of --instrument " + args.instrument);
+    if (const char* n = named(ball ? std::span<const char* const>(kProbeOnly) : std::span<const char* const>(kBallOnly)))
+      return Status(StatusCode::kInvalidArgument, std::string(n) + " is not an option of --instrument " + args.instrument);
+  } else {
+    if (const char* n = named(kInstrumentOnly))
+      return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument datum_ball or probe_artifacts");
+    if (const char* n = named(kBallOnly))
+      return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument datum_ball");
+    if (const char* n = named(kProbeOnly))
+      return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument probe_artifacts");
+  }
   if (ball) {
     auto b = BallOption(args.ball_mm);
     if (!b.ok()) return b.status();
@@ -89,11 +119,39 @@ int RunDatumBallSimulate(const SimulateArgs& args) {
   return kExitOk;
 }
 
+int RunProbeArtifactsSimulate(const SimulateArgs& args) {
+  pipeline::ProbeArtifactsSimRequest request;
+  request.machine_path = args.piece.machine;
+  request.errors_path = args.request.errors_path;
+  request.artifacts_path = args.artifacts;
+  request.output_path = args.out;
+  if (!args.tilt_deg.empty()) request.plan.a_deg = args.tilt_deg;
+  if (args.c_step_deg) request.plan.c_step_deg = *args.c_step_deg;
+  request.touch = args.touch;
+  request.noise_um = args.request.noise_um;
+  request.seed = args.request.seed;
+  request.seconds_per_touch = args.seconds_per_touch;
+  request.truth = !args.truth.empty();
+  auto sim = pipeline::RunProbeArtifactsSimulateStage(request);
+  if (!sim.ok()) return ReportError(sim.status());
+  if (Status s = pipeline::WriteFileAtomic(args.out, sim->csv); !s.ok()) return ReportError(s);
+  Info(fmt::format("wrote {}: {} touches at {} poses, {} planned out (noise {} um, seed {}, pre-travel {} um + {} um "
+                   "lobing{})",
+                   args.out, sim->touches.size(), sim->plan.poses.size(), sim->plan.skipped.size(), request.noise_um,
+                   request.seed, request.touch.pretravel_um, request.touch.pretravel_lobing_um,
+                   sim->timed ? ", with t_s: the errors have thermal terms" : ""));
+  if (!args.truth.empty()) {
+    if (Status s = pipeline::WriteFileAtomic(args.truth, sim->truth_yaml); !s.ok()) return ReportError(s);
+    Info("wrote " + args.truth);
+  }
+  return kExitOk;
+}
+
 int RunSimulate(const CLI::App& sub, const SimulateArgs& args) {
   if (Status s = CheckPathOptions(sub, args); !s.ok()) return ReportError(s);
   if (!args.instrument.empty()) {
     if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
-    return RunDatumBallSimulate(args);
+    return args.instrument == "probe_artifacts" ? RunProbeArtifactsSimulate(args) : RunDatumBallSimulate(args);
   }
   // Everything is read and checked before anything is written.
   if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
@@ -135,23 +193,50 @@ Command RegisterSimulate(CLI::App& app) {
       "With --instrument datum_ball instead of --testpiece: the virtual datum-ball test (seed 001): at each rotary\n"
       "position the linear commands centring the probe on a ball on the table, solved through the full chain with\n"
       "the errors (thermal terms at t_s = reading index x --seconds-per-position), plus Gaussian noise per\n"
-      "coordinate; writes a tpcal ballpos v1 CSV for `tpcal identify --instrument datum_ball`.");
+      "coordinate; writes a tpcal ballpos v1 CSV for `tpcal identify --instrument datum_ball`.\n"
+      "With --instrument probe_artifacts: the virtual on-machine probing test of artifacts (seed 000): every touch\n"
+      "of the plan (`tpcal plan --instrument probe_artifacts`) solved through the full chain with the errors\n"
+      "(thermal terms at t_s = touch index x --seconds-per-touch), the stylus pre-travel added along the approach,\n"
+      "plus Gaussian noise along the approach; writes a tpcal probepts v1 CSV (contact x,y,z in mm to 0.1 um and\n"
+      "approach i,j,k, machine frame).");
   AddPieceOptions(sub, &args->piece, /*machine_required=*/true);
   // Required on the test-piece path only (checked in RunSimulate).
   sub->get_option("--testpiece")->required(false);
   sub->get_option("--machine")->required(false)->description(
       "machine model YAML (schema tpcal.machine/1, samples/machines/); required with --testpiece; "
-      "--instrument datum_ball: default the nominal bc_table");
+      "--instrument datum_ball: default the nominal bc_table; --instrument probe_artifacts: an A/C table, default "
+      "the nominal ac_table");
   sub->add_option("--instrument", args->instrument,
-                  "datum_ball: simulate the datum-ball instrument instead of a test piece (not with --testpiece)")
-      ->check(CLI::IsMember({"datum_ball"}));
-  sub->add_option("--tilt-deg", args->tilt_deg, "datum_ball: tilt-axis (B or A) commands, deg (default 0,30,-30)")
+                  "datum_ball or probe_artifacts: simulate that instrument instead of a test piece (not with "
+                  "--testpiece)")
+      ->check(CLI::IsMember({"datum_ball", "probe_artifacts"}));
+  sub->add_option("--tilt-deg", args->tilt_deg,
+                  "datum_ball: tilt-axis (B or A) commands, deg (default 0,30,-30); probe_artifacts: A commands, deg "
+                  "(default 0,-30,-60,-90)")
       ->delimiter(',');
-  sub->add_option("--c-step-deg", args->c_step_deg, "datum_ball: C from 0 to < 360 deg in this step (default 30)");
+  sub->add_option("--c-step-deg", args->c_step_deg,
+                  "C from 0 to < 360 deg in this step, deg (default 30 datum_ball, 60 probe_artifacts)");
   sub->add_option("--ball", args->ball_mm, "datum_ball: nominal ball centre X,Y,Z, mm, part frame (default 200,0.1,300)")
       ->delimiter(',');
   sub->add_option("--seconds-per-position", args->seconds_per_position,
                   "datum_ball: time between readings, s (t_s of reading i = i x this; only when the errors have "
+                  "thermal terms)")
+      ->capture_default_str();
+  sub->add_option("--artifacts", args->artifacts,
+                  "probe_artifacts: the artifact boxes, YAML (schema tpcal.artifacts/1, docs/formats/artifacts.md; part "
+                  "frame, mm); default: seed 000's three 30 x 30 x 60 mm columns");
+  sub->add_option("--probe-radius-mm", args->touch.probe_radius_mm, "probe_artifacts: stylus ball radius, mm")
+      ->capture_default_str();
+  sub->add_option("--pretravel-um", args->touch.pretravel_um,
+                  "probe_artifacts: uncompensated constant pre-travel p0 of the touch-trigger probe, um (each reading "
+                  "moves p0 along its approach)")
+      ->capture_default_str();
+  sub->add_option("--pretravel-lobing-um", args->touch.pretravel_lobing_um,
+                  "probe_artifacts: three-lobed pre-travel amplitude p3, um: p3 |d_xy| cos(3 phi) along the approach d, "
+                  "phi its azimuth in machine XY (kinematics/probe_touch.h)")
+      ->capture_default_str();
+  sub->add_option("--seconds-per-touch", args->seconds_per_touch,
+                  "probe_artifacts: time between touches, s (t_s of touch i = i x this; only when the errors have "
                   "thermal terms)")
       ->capture_default_str();
   sub->add_option("--errors", args->request.errors_path,
@@ -163,7 +248,8 @@ Command RegisterSimulate(CLI::App& app) {
                   "{compliance_um_per_n: [x, y, z], ...}, servo_reversal {spike_x_um, spike_y_um, decay_deg, "
                   "backlash_x_um, backlash_y_um}; default none");
   sub->add_option("--noise-um", args->request.noise_um,
-                  "1-sigma CMM probing noise along the normal, um (datum_ball: of each coordinate of a reading)")
+                  "1-sigma CMM probing noise along the normal, um (datum_ball: of each coordinate of a reading; "
+                  "probe_artifacts: of each contact along its approach)")
       ->capture_default_str();
   sub->add_option("--seed", args->request.seed, "seed of std::mt19937_64 (placement, then noise)")->capture_default_str();
   sub->add_option("--placement", args->request.placement,
@@ -177,7 +263,8 @@ Command RegisterSimulate(CLI::App& app) {
                   "actual minus calibrated probe radius, um (every point moves outward along its normal)")
       ->capture_default_str();
   sub->add_option("-o,--output", args->out,
-                  "point CSV to write (docs/formats/points.md); datum_ball: ball-position CSV (docs/formats/ballpos.md)")
+                  "point CSV to write (docs/formats/points.md); datum_ball: ball-position CSV (docs/formats/ballpos.md); "
+                  "probe_artifacts: probed-point CSV (docs/formats/probepts.md)")
       ->required();
   sub->add_option("--truth", args->truth, "also write the stated truth as YAML (schema tpcal.simulation_truth/1)");
   return {sub, [args, sub] { return RunSimulate(*sub, *args); }};

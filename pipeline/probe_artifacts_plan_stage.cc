@@ -1,0 +1,129 @@
+#include "pipeline/probe_artifacts_plan_stage.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/units.h"
+#include "gcode/nc_format.h"
+#include "kinematics/artifacts_yaml.h"
+#include "kinematics/machine_yaml.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+// File-local names carry a ProbePlan prefix: a unity build merges this file with the other stages
+// (datum_ball_plan_stage.cc has its own DialectOf, LocateProgramError, ...).
+
+Status ProbePlanArgError(const std::string& message) {
+  return Status(StatusCode::kInvalidArgument, message, "tpcal plan");
+}
+
+Result<kinematics::MachineModel> ProbePlanMachine(const std::string& path) {
+  if (!path.empty()) return kinematics::LoadMachineModel(path);
+  return kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+}
+
+Result<kinematics::ArtifactSet> ProbePlanArtifacts(const std::string& path) {
+  if (path.empty()) return kinematics::Seed000Artifacts();
+  auto set = kinematics::LoadArtifactsYaml(path);
+  if (!set.ok() && set.status().file().empty()) return set.status().WithLocation(path);
+  return set;
+}
+
+// --dialect, or the dialect the program's extension names.
+Result<std::string> ProbePlanDialect(const GcodeRequest& nc) {
+  if (!nc.dialect.empty()) return nc.dialect;
+  const std::string ext = std::filesystem::path(nc.output).extension().string();
+  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
+                           gcode::Dialect::kHeidenhain}) {
+    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
+  }
+  return ProbePlanArgError("--dialect: needed for --nc " + nc.output +
+                           " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)");
+}
+
+// A program error without a file ("NAME.ngc: N40: ...") is reported at the program's path,
+// without the repeated program name.
+Status ProbePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
+  if (!s.file().empty()) return s;
+  std::string message = s.message();
+  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
+  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
+  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
+}
+
+double ProbePlanRound(double v, double step) { return std::round(v / step) * step + 0.0; }
+
+}  // namespace
+
+double ProbeRotaryDeg(double rad) { return std::round(RadToDeg(rad) * 1e9) / 1e9 + 0.0; }
+
+std::string ArtifactLabel(const kinematics::ArtifactSet& artifacts, int index) {
+  if (index >= 0 && index < static_cast<int>(artifacts.boxes.size()) && !artifacts.boxes[index].name.empty())
+    return artifacts.boxes[index].name;
+  return std::to_string(index + 1);
+}
+
+ProbePointFile ProbeArtifactsPlanPoints(const testpieces::ProbeArtifactsPlan& plan) {
+  ProbePointFile file;
+  file.rotary_axes = {'A', 'C'};
+  file.is_plan = true;
+  for (const testpieces::PlannedTouch& t : plan.touches) {
+    ProbePointRow row;
+    row.rotary_deg = {{'A', ProbeRotaryDeg(t.rotary.a_rad)}, {'C', ProbeRotaryDeg(t.rotary.c_rad)}};
+    row.artifact = ArtifactLabel(plan.artifacts, t.artifact);
+    row.face = kinematics::BoxFaceName(t.face);
+    for (int k = 0; k < 3; ++k) {
+      row.point_mm(k) = ProbePlanRound(t.contact_mm(k), 1e-4);
+      row.approach(k) = ProbePlanRound(t.approach(k), 1e-12);
+    }
+    file.rows.push_back(row);
+  }
+  return file;
+}
+
+std::string SkippedTouchLine(const testpieces::ProbeArtifactsPlan& plan, const testpieces::SkippedTouch& s) {
+  return fmt::format("A {} C {}: artifact {} face {} skipped: {}", ProbeRotaryDeg(s.rotary.a_rad),
+                     ProbeRotaryDeg(s.rotary.c_rad), ArtifactLabel(plan.artifacts, s.artifact),
+                     kinematics::BoxFaceName(s.face), s.reason);
+}
+
+Result<ProbeArtifactsPlanResult> RunProbeArtifactsPlanStage(const ProbeArtifactsPlanRequest& r) {
+  auto machine = ProbePlanMachine(r.machine_path);
+  if (!machine.ok()) return machine.status();
+  auto artifacts = ProbePlanArtifacts(r.artifacts_path);
+  if (!artifacts.ok()) return artifacts.status();
+  ProbeArtifactsPlanResult out;
+  out.machine = machine->name.empty() ? kinematics::MachineTypeName(machine->type) : machine->name;
+  if (Status s = r.plan.Validate(); !s.ok()) return s.file().empty() ? s.WithLocation("tpcal plan") : s;
+  auto plan = testpieces::MakeProbeArtifactsPlan(*machine, *artifacts, r.plan);
+  if (!plan.ok()) return plan.status().WithLocation(r.machine_path.empty() ? "tpcal plan" : r.machine_path);
+  out.plan = std::move(plan).value();
+  out.points = ProbeArtifactsPlanPoints(out.plan);
+  out.csv = FormatProbePoints(out.points);
+  for (const testpieces::SkippedTouch& s : out.plan.skipped) out.skipped_lines.push_back(SkippedTouchLine(out.plan, s));
+  out.files.push_back({r.csv_path, out.csv});
+  if (!r.nc.output.empty()) {
+    GcodeRequest nc = r.nc;
+    auto dialect = ProbePlanDialect(nc);
+    if (!dialect.ok()) return dialect.status();
+    nc.dialect = *dialect;
+    auto options = GcodeOptionsFor(nc);
+    if (!options.ok()) return options.status().file() == "tpcal gcode" ? options.status().WithLocation("tpcal plan")
+                                                                        : options.status();
+    out.options = *options;
+    auto posted = gcode::PostProbeArtifactsProgram(out.plan, *machine, r.probe, out.options);
+    if (!posted.ok()) return ProbePlanProgramError(posted.status(), out.options, nc.output);
+    out.files.push_back({nc.output, posted->program_text});
+    if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
+    out.posted = std::move(posted).value();
+  } else if (!r.nc.dialect.empty() || !r.nc.post_path.empty()) {
+    return ProbePlanArgError(std::string(r.nc.dialect.empty() ? "--post" : "--dialect") + " needs --nc PROGRAM");
+  }
+  if (Status s = CheckWritableDirectories(out.files); !s.ok()) return s;
+  return out;
+}
+
+}  // namespace tpcal::pipeline
