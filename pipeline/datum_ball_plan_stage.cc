@@ -40,27 +40,7 @@ Result<testpieces::DatumBallPlanOptions> BallPlanOptionsOf(const DatumBallPlanRe
   return o;
 }
 
-// --dialect, or the dialect the program's extension names.
-Result<std::string> DialectOf(const GcodeRequest& nc) {
-  if (!nc.dialect.empty()) return nc.dialect;
-  const std::string ext = std::filesystem::path(nc.output).extension().string();
-  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
-                           gcode::Dialect::kHeidenhain}) {
-    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
-  }
-  return PlanArgError("--dialect: needed for --nc " + nc.output +
-                      " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)");
-}
 
-// A program error without a file ("NAME.ngc: N40: rapid target outside ...") is reported at the
-// program's path, without the repeated program name.
-Status LocateProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
-  if (!s.file().empty()) return s;
-  std::string message = s.message();
-  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
-  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
-  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
-}
 
 std::string RotaryColumn(const testpieces::DatumBallPlan& plan) {
   return plan.tilt_axis == kinematics::Axis::kA ? "A_deg" : "B_deg";
@@ -104,7 +84,7 @@ Result<DatumBallPlanResult> RunDatumBallPlanStage(const DatumBallPlanRequest& r)
   out.files.push_back({r.csv_path, out.csv});
   if (!r.nc.output.empty()) {
     GcodeRequest nc = r.nc;
-    auto dialect = DialectOf(nc);
+    auto dialect = PlanProgramDialect(nc);
     if (!dialect.ok()) return dialect.status();
     nc.dialect = *dialect;
     auto options = GcodeOptionsFor(nc);
@@ -112,7 +92,7 @@ Result<DatumBallPlanResult> RunDatumBallPlanStage(const DatumBallPlanRequest& r)
                                                                         : options.status();
     out.options = *options;
     auto posted = gcode::PostDatumBallProgram(out.plan, *machine, r.probe, out.options);
-    if (!posted.ok()) return LocateProgramError(posted.status(), out.options, nc.output);
+    if (!posted.ok()) return LocatePlanProgramError(posted.status(), out.options, nc.output);
     out.files.push_back({nc.output, posted->program_text});
     if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
     out.posted = std::move(posted).value();

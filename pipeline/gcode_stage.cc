@@ -141,4 +141,25 @@ Result<GcodeStageResult> RunGcodeStage(const PieceRequest& piece, const GcodeReq
   return GcodeStageResult{std::move(*options), loaded->piece.machine.type, std::move(*posted), std::move(files)};
 }
 
+Result<std::string> PlanProgramDialect(const GcodeRequest& nc) {
+  if (!nc.dialect.empty()) return nc.dialect;
+  const std::string ext = std::filesystem::path(nc.output).extension().string();
+  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
+                           gcode::Dialect::kHeidenhain}) {
+    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
+  }
+  return Status(StatusCode::kInvalidArgument,
+                "--dialect: needed for --nc " + nc.output +
+                    " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)",
+                "tpcal plan");
+}
+
+Status LocatePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
+  if (!s.file().empty()) return s;
+  std::string message = s.message();
+  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
+  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
+  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
+}
+
 }  // namespace tpcal::pipeline

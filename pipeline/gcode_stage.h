@@ -54,4 +54,12 @@ std::string ProgramNameOf(const std::string& output);
 // directory that is missing or read-only.
 Result<GcodeStageResult> RunGcodeStage(const PieceRequest& piece, const GcodeRequest& request);
 
+// For the instruments' probing programs (`tpcal plan --instrument ... --nc PROGRAM`):
+// --dialect, or the dialect the program's extension names (.nc, .ngc, .mpf, .h). Errors:
+// kInvalidArgument at "tpcal plan" when neither names one.
+Result<std::string> PlanProgramDialect(const GcodeRequest& nc);
+// A program error without a file ("NAME.ngc: N40: rapid target outside ...") located at the
+// program's path, without the repeated program name, and "tpcal plan: nothing written" added.
+Status LocatePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path);
+
 }  // namespace tpcal::pipeline

@@ -13,8 +13,7 @@
 namespace tpcal::pipeline {
 namespace {
 
-// File-local names carry a ProbePlan prefix: a unity build merges this file with the other stages
-// (datum_ball_plan_stage.cc has its own DialectOf, LocateProgramError, ...).
+// File-local names carry a ProbePlan prefix: a unity build merges this file with the other stages.
 
 Status ProbePlanArgError(const std::string& message) {
   return Status(StatusCode::kInvalidArgument, message, "tpcal plan");
@@ -32,27 +31,7 @@ Result<kinematics::ArtifactSet> ProbePlanArtifacts(const std::string& path) {
   return set;
 }
 
-// --dialect, or the dialect the program's extension names.
-Result<std::string> ProbePlanDialect(const GcodeRequest& nc) {
-  if (!nc.dialect.empty()) return nc.dialect;
-  const std::string ext = std::filesystem::path(nc.output).extension().string();
-  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
-                           gcode::Dialect::kHeidenhain}) {
-    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
-  }
-  return ProbePlanArgError("--dialect: needed for --nc " + nc.output +
-                           " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)");
-}
 
-// A program error without a file ("NAME.ngc: N40: ...") is reported at the program's path,
-// without the repeated program name.
-Status ProbePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
-  if (!s.file().empty()) return s;
-  std::string message = s.message();
-  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
-  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
-  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
-}
 
 double ProbePlanRound(double v, double step) { return std::round(v / step) * step + 0.0; }
 
@@ -107,7 +86,7 @@ Result<ProbeArtifactsPlanResult> RunProbeArtifactsPlanStage(const ProbeArtifacts
   out.files.push_back({r.csv_path, out.csv});
   if (!r.nc.output.empty()) {
     GcodeRequest nc = r.nc;
-    auto dialect = ProbePlanDialect(nc);
+    auto dialect = PlanProgramDialect(nc);
     if (!dialect.ok()) return dialect.status();
     nc.dialect = *dialect;
     auto options = GcodeOptionsFor(nc);
@@ -115,7 +94,7 @@ Result<ProbeArtifactsPlanResult> RunProbeArtifactsPlanStage(const ProbeArtifacts
                                                                         : options.status();
     out.options = *options;
     auto posted = gcode::PostProbeArtifactsProgram(out.plan, *machine, r.probe, out.options);
-    if (!posted.ok()) return ProbePlanProgramError(posted.status(), out.options, nc.output);
+    if (!posted.ok()) return LocatePlanProgramError(posted.status(), out.options, nc.output);
     out.files.push_back({nc.output, posted->program_text});
     if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
     out.posted = std::move(posted).value();
