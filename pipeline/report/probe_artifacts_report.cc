@@ -102,6 +102,24 @@ PaJson PaArtifactsJson(const kinematics::ArtifactSet& set) {
   return a;
 }
 
+// The 6 x 6 covariance block of pose `p` (um^2, um urad, urad^2; k = 1), rows and columns in
+// kPoseComponents order; null where either component is not identifiable (no number to correlate).
+PaJson PaPoseCovarianceJson(const TablePoseFit& fit, std::size_t p) {
+  const TablePose& pose = fit.poses[p];
+  const Eigen::Index base = static_cast<Eigen::Index>(6 * p);
+  PaJson rows = PaJson::array();
+  for (int r = 0; r < 6; ++r) {
+    PaJson row = PaJson::array();
+    for (int c = 0; c < 6; ++c) {
+      const bool ok = pose.identifiable[static_cast<std::size_t>(r)] && pose.identifiable[static_cast<std::size_t>(c)] &&
+                      base + 5 < fit.covariance.rows() && base + 5 < fit.covariance.cols();
+      row.push_back(OrNull(ok, ok ? fit.covariance(base + r, base + c) : 0.0));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 PaJson PaPosesJson(const TablePoseFit& fit) {
   PaJson poses = PaJson::array();
   for (std::size_t p = 0; p < fit.poses.size(); ++p) {
@@ -114,6 +132,7 @@ PaJson PaPosesJson(const TablePoseFit& fit) {
                                            {"identifiable", ok},
                                            {"u", OrNull(ok, PaPoseU(fit, p, c))}};
     }
+    j["covariance"] = PaPoseCovarianceJson(fit, p);
     poses.push_back(std::move(j));
   }
   return poses;
@@ -201,6 +220,33 @@ std::string PaPoseTableText(const TablePoseFit& fit) {
       o += fmt::format(" {:>18}", PaValueU(pose.identifiable[static_cast<std::size_t>(c)], pose.value(c),
                                            PaPoseU(fit, p, c)));
     o += pose.reference ? "  (reference: zero by definition)\n" : "\n";
+  }
+  return o;
+}
+
+// One line per pose: its largest correlation between two identifiable components, from the pose's
+// 6 x 6 covariance block (the blocks themselves are in the JSON, `poses[].covariance`).
+std::string PaPoseCorrelationText(const TablePoseFit& fit) {
+  std::string o;
+  for (std::size_t p = 0; p < fit.poses.size(); ++p) {
+    const TablePose& pose = fit.poses[p];
+    if (pose.reference) continue;
+    double best = 0.0;
+    int best_r = -1, best_c = -1;
+    for (int r = 0; r < 6; ++r)
+      for (int c = r + 1; c < 6; ++c) {
+        const double ur = PaPoseU(fit, p, r), uc = PaPoseU(fit, p, c);
+        if (!pose.identifiable[static_cast<std::size_t>(r)] || !pose.identifiable[static_cast<std::size_t>(c)] ||
+            ur <= 0.0 || uc <= 0.0)
+          continue;
+        const Eigen::Index i = static_cast<Eigen::Index>(6 * p);
+        const double rho = fit.covariance(i + r, i + c) / (ur * uc);
+        if (std::abs(rho) > std::abs(best)) best = rho, best_r = r, best_c = c;
+      }
+    o += fmt::format("{:>7g} {:>7g}", pose.a_deg, pose.c_deg);
+    o += best_r < 0 ? std::string("  -\n")
+                    : fmt::format("  {:+.3f} ({}, {})\n", best, kinematics::kPoseComponents[best_r],
+                                  kinematics::kPoseComponents[best_c]);
   }
   return o;
 }
@@ -408,6 +454,8 @@ std::string ProbeArtifactsText(const ProbeArtifactsReport& report) {
   for (const std::string& c : r.maps.conventions) o += "  - " + c + "\n";
   o += "\ntable poses relative to the reference, value +- u (k=1), '-' not identifiable:\n";
   o += PaPoseTableText(r.poses);
+  o += "\nlargest correlation between two components of each pose (its 6 x 6 covariance is in the JSON):\n";
+  o += fmt::format("{:>7} {:>7}  rho (components)\n", "A deg", "C deg") + PaPoseCorrelationText(r.poses);
   for (const std::string& symbol : PaSymbols(r.maps)) o += "\n" + PaMapText(r.maps, symbol);
   const auto missing = PaNotIdentifiableLines(report);
   if (missing.empty()) {

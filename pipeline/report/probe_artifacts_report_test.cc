@@ -175,6 +175,17 @@ TEST(ProbeArtifactsReport, JsonHoldsPosesMapsAndFitAsIdentified) {
         EXPECT_GT(jc["u"].get<double>(), 0.0) << p << " " << c;
       }
     }
+    // The pose's 6 x 6 covariance block, symmetric, its diagonal the u^2 above.
+    const auto& cov = jp["covariance"];
+    ASSERT_EQ(cov.size(), 6u);
+    const Eigen::Index base = static_cast<Eigen::Index>(6 * p);
+    for (int a = 0; a < 6; ++a) {
+      ASSERT_EQ(cov[a].size(), 6u);
+      for (int b = 0; b < 6; ++b) {
+        EXPECT_EQ(cov[a][b], r.poses.covariance(base + a, base + b)) << p << " " << a << " " << b;
+        EXPECT_EQ(cov[a][b], cov[b][a]);
+      }
+    }
   }
   // The touched faces, artifact then face order.
   ASSERT_EQ(j["faces"].size(), r.poses.faces.size());
@@ -220,6 +231,39 @@ TEST(ProbeArtifactsReport, TextNamesEveryMapAndTheFitHeader) {
   ASSERT_EQ(a_row.size(), 4u);
   EXPECT_EQ(a_row[2], "+-");
   EXPECT_NE(t.find("not identifiable: none"), std::string::npos);
+}
+
+TEST(ProbeArtifactsReport, TextGivesEachPosesLargestCorrelation) {
+  const ProbeArtifactsReport& report = ParFull();
+  const auto& fit = report.result.poses;
+  const std::string t = ProbeArtifactsText(report);
+  const std::size_t at = t.find("largest correlation between two components of each pose");
+  ASSERT_NE(at, std::string::npos);
+  // Truth for the first non-reference pose: the largest |rho| over its 15 component pairs.
+  std::size_t p = 0;
+  while (fit.poses[p].reference) ++p;
+  const Eigen::Index b = static_cast<Eigen::Index>(6 * p);
+  double best = 0.0;
+  for (int i = 0; i < 6; ++i)
+    for (int k = i + 1; k < 6; ++k) {
+      const double rho = fit.covariance(b + i, b + k) / std::sqrt(fit.covariance(b + i, b + i) * fit.covariance(b + k, b + k));
+      if (std::abs(rho) > std::abs(best)) best = rho;
+    }
+  std::istringstream lines(t.substr(at));
+  std::string line;
+  std::getline(lines, line);  // the section title
+  std::getline(lines, line);  // the column heads
+  int rows = 0;
+  double first = 0.0;
+  while (std::getline(lines, line) && !line.empty()) {
+    std::istringstream ls(line);
+    double a_deg = 0.0, c_deg = 0.0, rho = 0.0;
+    ASSERT_TRUE(ls >> a_deg >> c_deg >> rho) << line;
+    EXPECT_LE(std::abs(rho), 1.0);
+    if (rows++ == 0) first = rho;
+  }
+  EXPECT_EQ(rows, 23);  // every pose but the reference
+  EXPECT_NEAR(first, best, 5e-4);  // printed to 3 decimals
 }
 
 TEST(ProbeArtifactsReport, HtmlIsSelfContainedWithOneFigurePerMap) {
