@@ -1,4 +1,4 @@
-#include "kinematics/circular_test.h"
+#include "kinematics/circular_test_analysis.h"
 
 #include <Eigen/Core>
 #include <Eigen/QR>
@@ -20,7 +20,7 @@ namespace {
 
 constexpr double kCircTwoPi = 2.0 * std::numbers::pi;
 
-// The columns of the model, in this order (circular_test.h).
+// The columns of the model, in this order (circular_test_analysis.h).
 enum CircColumn : int {
   kCircOffset = 0, kCircCos, kCircSin, kCircSin2, kCircCos2,  // always fitted
   kCircBacklash1, kCircBacklash2, kCircServo, kCircSpike1, kCircSpike2,

@@ -1,9 +1,9 @@
-// ISO 230-4 circular-test analysis (kinematics/circular_test.h) on circle tests simulated through
+// ISO 230-4 circular-test analysis (kinematics/circular_test_analysis.h) on circle tests simulated through
 // the exact chain (kinematics/ballbar.h SimulateBallbarDlUm) plus the servo effects of
 // testpieces/process_effects.h's ServoReversalModel (written here again in its machine-frame
 // vector form: lost motion of b/2 against the new direction after each reversal, glitches
 // h exp(-alpha / decay) outward), which the chain does not carry, and a path-angle lag of e2.
-// Truths translate to figures by the closed forms of circular_test.h: squareness = the ISO 230-1
+// Truths translate to figures by the closed forms of circular_test_analysis.h: squareness = the ISO 230-1
 // parameter (urad), scale mismatch = (c1 of E_<e1><e1> - c1 of E_<e2><e2>) * 1e6 (um/m), bar length
 // offset = R (c1_1 + c1_2) / 2 (um), centre offsets = c0 of E_<e1><e1>, E_<e2><e2> (um).
 // Tolerances:
@@ -13,7 +13,7 @@
 //     figures and 5e-3 on those scaled by 2000 / R;
 //   noisy fits are judged by their own u: within 3 u of the truth (fixed seeds);
 //   coverage of the 95 % intervals over 200 random tests: within 93-97 %.
-#include "kinematics/circular_test.h"
+#include "kinematics/circular_test_analysis.h"
 
 #include <gtest/gtest.h>
 
@@ -189,7 +189,7 @@ void CircTExpectWithin(const CircularTestResult& r, const std::map<std::string, 
   }
 }
 
-// Noise-free: every closed form of circular_test.h against the exact chain, three planes.
+// Noise-free: every closed form of circular_test_analysis.h against the exact chain, three planes.
 TEST(CircularTest, ClosedFormsMatchTheChainNoiseFree) {
   const MachineModel m = CircTMachine(MachineType::kXyz);
   const CircTTruth t = CircTFixedTruth();
