@@ -120,6 +120,10 @@ Result<BallbarPlanResult> RunBallbarPlanStage(const BallbarPlanRequest& r) {
   BallbarPlanResult out;
   out.setup = std::move(setup).value();
   out.machine = machine->name.empty() ? kinematics::MachineTypeName(machine->type) : machine->name;
+  if (!(std::isfinite(r.program.feed_mm_per_min) && r.program.feed_mm_per_min > 0.0))
+    return BarPlanArgError("--feed-mm-per-min: expected a feed > 0 mm/min, got " +
+                               gcode::FormatNumber(r.program.feed_mm_per_min, 6),
+                           "tpcal plan");
   auto tests = MakeBallbarTests(*machine, out.setup, r.angles, r.setup_path, "tpcal plan");
   if (!tests.ok()) return tests.status();
   out.tests = std::move(tests).value();

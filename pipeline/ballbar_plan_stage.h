@@ -68,7 +68,7 @@ struct BallbarPlanResult {
 };
 
 // Errors (exit 2 in the CLI, nothing written), in this order: no --setup; machine and set-up files
-// (file:line); the angles (--step-deg, --angles-deg); an installation the machine cannot hold
+// (file:line); a circle feed <= 0 (--feed-mm-per-min); the angles (--step-deg, --angles-deg); an installation the machine cannot hold
 // (at the set-up file); --dialect / --post without --nc, a dialect the program's extension does
 // not name; the post options (--post file:line); the program's (a stroke violation names the
 // block, located at the program's path); an output directory that is missing or read-only.

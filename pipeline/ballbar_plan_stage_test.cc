@@ -93,6 +93,9 @@ TEST(BallbarPlanStage, BadInputIsLocated) {
   ASSERT_FALSE(machine.ok());
   EXPECT_EQ(machine.status().file(), BarPlanSample()) << machine.status().ToString();
   r = BarPlanRequest();
+  r.program.feed_mm_per_min = 0.0;
+  EXPECT_EQ(RunBallbarPlanStage(r).status().message(), "--feed-mm-per-min: expected a feed > 0 mm/min, got 0");
+  r = BarPlanRequest();
   r.nc.dialect = "fanuc";
   EXPECT_EQ(RunBallbarPlanStage(r).status().message(), "--dialect needs --nc PROGRAM");
   r = BarPlanRequest();

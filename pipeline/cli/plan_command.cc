@@ -7,7 +7,8 @@
 //            [--c-step-deg 60] [--probe-radius-mm 3] -o PLAN.csv [--nc PROGRAM [--dialect D] [--post P.yaml]
 //            [--date YYYY-MM-DD|none]]
 // tpcal plan --instrument ballbar --setup S.yaml [--machine M.yaml] [--angles-deg A,... | --step-deg D]
-//            -o PLAN.csv [--nc PROGRAM [--dialect D] [--post P.yaml] [--date YYYY-MM-DD|none]]
+//            -o PLAN.csv [--nc PROGRAM [--dialect D] [--post P.yaml] [--date YYYY-MM-DD|none]
+//            [--feed-mm-per-min 1000]]
 //
 // Writes the CMM probing plan of a test piece as the `tpcal plan v1` CSV (docs/formats/probing_plan.md):
 // nominal points and outward normals in the part's DATUM frame, then op, t_s, the
@@ -50,6 +51,7 @@ struct PlanArgs {
   std::optional<double> probe_radius_mm;  // probe_artifacts: --probe-radius-mm
   std::string setup;                      // ballbar: --setup
   pipeline::BallbarAngles bar_angles;     // ballbar: --angles-deg, --step-deg
+  std::optional<double> bar_feed_mm_per_min;  // ballbar: --feed-mm-per-min
 };
 
 Status PlanUsageError(const std::string& message) { return Status(StatusCode::kInvalidArgument, message, "tpcal plan"); }
@@ -76,6 +78,7 @@ Status CheckPlanMode(const PlanArgs& a) {
     if (!a.setup.empty()) return PlanUsageError("--setup needs --instrument ballbar");
     if (!a.bar_angles.angles_deg.empty()) return PlanUsageError("--angles-deg needs --instrument ballbar");
     if (a.bar_angles.step_deg) return PlanUsageError("--step-deg needs --instrument ballbar");
+    if (a.bar_feed_mm_per_min) return PlanUsageError("--feed-mm-per-min needs --instrument ballbar");
     return Status::Ok();
   }
   for (const auto& [name, set] : std::vector<std::pair<std::string, bool>>{
@@ -89,6 +92,8 @@ Status CheckPlanMode(const PlanArgs& a) {
     if (!a.bar_angles.angles_deg.empty())
       return PlanUsageError("--angles-deg is for --instrument ballbar, not " + a.instrument);
     if (a.bar_angles.step_deg) return PlanUsageError("--step-deg is for --instrument ballbar, not " + a.instrument);
+    if (a.bar_feed_mm_per_min)
+      return PlanUsageError("--feed-mm-per-min is for --instrument ballbar, not " + a.instrument);
   } else {
     if (!b.tilt_deg.empty()) return PlanUsageError("--tilt-deg is not an option of --instrument ballbar");
     if (b.c_step_deg) return PlanUsageError("--c-step-deg is not an option of --instrument ballbar (--step-deg)");
@@ -180,6 +185,7 @@ int RunBallbarPlan(const PlanArgs& args) {
   request.angles = args.bar_angles;
   request.csv_path = args.out;
   request.nc = args.ball.nc;
+  if (args.bar_feed_mm_per_min) request.program.feed_mm_per_min = *args.bar_feed_mm_per_min;
   const std::string table = request.nc.output.empty() ? std::string() : request.nc.output + ".tbl";
   const Status distinct =
       CheckDistinctOutputs({{"-o", args.out}, {"--nc", request.nc.output}, {"--nc (tool table)", table}});
@@ -286,6 +292,8 @@ Command RegisterPlan(CLI::App& app) {
       ->delimiter(',');
   sub->add_option("--step-deg", args->bar_angles.step_deg,
                   "ballbar: the default ranges in this step, deg (instead of 20 / 5 / 1)");
+  sub->add_option("--feed-mm-per-min", args->bar_feed_mm_per_min,
+                  "ballbar: contouring feed of the circular tests in --nc, mm/min; default 1000");
   sub->add_option("--tilt-deg", b.tilt_deg,
                   "datum_ball: tilt-axis (B or A) commands, deg; default 0,30,-30. probe_artifacts: A commands, deg; "
                   "default 0,-30,-60,-90")

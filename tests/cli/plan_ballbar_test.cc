@@ -22,7 +22,7 @@ std::size_t BarCliCount(const std::string& text, const std::string& what) {
 
 TEST_F(BallbarCli, PlanAndProgramOfSeed003) {
   const RunResult r = Run("plan --instrument ballbar --setup " + Source("samples/ballbar/seed003_setups.yaml") +
-                          " -o plan.csv --nc bb.ngc --date none");
+                          " -o plan.csv --nc bb.ngc --date none --feed-mm-per-min 2000");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto file = pipeline::ReadBallbar(Path("plan.csv"));
   ASSERT_TRUE(file.ok()) << file.status().ToString();
