@@ -35,22 +35,22 @@ GRules RulesFor(const GcodeOptions& o) {
   const CSpindleOptions& c = o.c_spindle;
   switch (o.dialect) {
     case Dialect::kFanuc:
-      r.letters = "NGMXYZABCIJRFSTHP";
-      r.g = {0, 1, 2, 3, 4, 17, 21, 31, 40, 43, 43.4, 49, 54, 55, 56, 57, 58, 59, 80, 85, 90, 92, 93, 94, 95, 96, 97, 98, 99};
-      r.m = {3, 4, 5, 6, 7, 8, 9, 30, c.orient_mcode};
+      r.letters = "NGMXYZABCIJKRFSTHP";
+      r.g = {0, 1, 2, 3, 4, 17, 18, 19, 21, 31, 40, 43, 43.4, 49, 54, 55, 56, 57, 58, 59, 80, 85, 90, 92, 93, 94, 95, 96, 97, 98, 99};
+      r.m = {0, 3, 4, 5, 6, 7, 8, 9, 30, c.orient_mcode};
       r.decimal_point = true;
       r.upper_comments = true;
       break;
     case Dialect::kLinuxCnc:
-      r.letters = "NGMXYZABCIJRFSTHPQE";
-      r.g = {0, 1, 2, 3, 4, 17, 21, 38.2, 40, 43, 49, 54, 55, 56, 57, 58, 59, 64, 80, 85, 90, 93, 94, 98, 99};
-      r.m = {3, 4, 5, 6, 7, 8, 9, 19, 30, 64, 65, 67, 68};
+      r.letters = "NGMXYZABCIJKRFSTHPQE";
+      r.g = {0, 1, 2, 3, 4, 17, 18, 19, 21, 38.2, 40, 43, 49, 54, 55, 56, 57, 58, 59, 64, 80, 85, 90, 93, 94, 98, 99};
+      r.m = {0, 3, 4, 5, 6, 7, 8, 9, 19, 30, 64, 65, 67, 68};
       r.semicolon_comments = true;
       break;
     case Dialect::kSinumerik:
-      r.letters = "NGMXYZABCIJFSTD";
-      r.g = {0, 1, 2, 3, 4, 17, 40, 54, 55, 56, 57, 71, 90, 93, 94, 95, 96, 97};
-      r.m = {3, 4, 5, 6, 7, 8, 9, 30};
+      r.letters = "NGMXYZABCIJKFSTD";
+      r.g = {0, 1, 2, 3, 4, 17, 18, 19, 40, 54, 55, 56, 57, 71, 90, 93, 94, 95, 96, 97};
+      r.m = {0, 3, 4, 5, 6, 7, 8, 9, 30};
       r.keywords = true;
       r.semicolon_comments = true;
       break;
@@ -196,8 +196,10 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
   const std::regex kBlk2("BLK FORM 0\\.2 X" + s + " Y" + s + " Z" + s);
   const std::regex kTool(R"(TOOL CALL (\d+ )?Z S\d+)");
   const std::regex kL("L( [XYZABC]" + s + ")* R0( (FMAX|F" + u + "|FU" + u + "))?( M\\d+)?");
-  const std::regex kCC("CC X" + s + " Y" + s);
-  const std::regex kC("C X" + s + " Y" + s + "( [ZABC]" + s + ")* DR[+-] R0( F" + u + ")?");
+  // Circles in XY, or (measuring programs) in ZX / YZ outside the working plane.
+  const std::string plane = "(X" + s + " Y" + s + "|X" + s + " Z" + s + "|Y" + s + " Z" + s + ")";
+  const std::regex kCC("CC " + plane);
+  const std::regex kC("C " + plane + "( [XYZABC]" + s + ")* DR[+-] R0( F" + u + ")?");
   const std::regex kM(R"(M(\d+))");
   const std::regex kQ(R"(Q(\d+)=)" + s + R"( ;[A-Z0-9. -]+( ~)?)");
   const std::set<std::string> fixed = {"CYCL DEF 13.0 ORIENTATION", "CYCL DEF 9.0 DWELL TIME", "FUNCTION MODE TURN",
@@ -214,7 +216,7 @@ Result<DialectCheckReport> CheckHeidenhain(std::string_view text, const GcodeOpt
       std::regex("TCH PROBE 4\\.2 IX" + s + " IY" + s + " IZ" + s),
       std::regex("TCH PROBE 4\\.3 ABST" + s + " F" + u + " MB" + u + " BASE[01]")};
   std::size_t probe3d_next = 0;  // index of the cycle-4 block expected next (0: none pending)
-  std::set<int> m_ok = {3, 4, 5, 7, 8, 9, 30, 99, 128, 129, o.c_spindle.orient_mcode, o.c_spindle.heidenhain_start_mcode,
+  std::set<int> m_ok = {0, 3, 4, 5, 7, 8, 9, 30, 99, 128, 129, o.c_spindle.orient_mcode, o.c_spindle.heidenhain_start_mcode,
                         o.c_spindle.heidenhain_start_mcode + 1};
   if (o.c_spindle.mode_on_mcode >= 0) {
     m_ok.insert(o.c_spindle.mode_on_mcode);

@@ -447,6 +447,7 @@ const char* InstrKindName(InstrKind k) {
     case InstrKind::kTableSpinStop: return "table_spin_stop";
     case InstrKind::kDwell: return "dwell";
     case InstrKind::kProbe: return "probe";
+    case InstrKind::kProgramStop: return "program_stop";
     case InstrKind::kProgramEnd: return "program_end";
   }
   return "?";

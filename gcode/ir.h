@@ -31,15 +31,21 @@ enum class InstrKind {
   kRapid,           // to `end`; `axis_mask` says which words are meaningful (initial moves)
   kIndex,           // rotary-only positioning to `end` (A, C)
   kLinear,          // feed move to `end` (feed_mode)
-  kArc,             // circular feed in the machine XY plane (G17) to `end` about arc_center_xy_mm
+  kArc,             // circular feed to `end` about the arc centre in arc_plane (G17 XY; G18 ZX, G19 YZ:
+                    // measuring programs only, the backplot, safety and path checks read XY arcs)
   kDrillCycle,      // reaming cycle (G85 / CYCLE85 / CYCL DEF 201), see DrillCycle
   kTableSpinStart,  // C table as a turning spindle, see TableSpin
   kTableSpinStop,   // C back to axis mode; its position is unknown afterwards
   kDwell,           // dwell_s
   kProbe,           // touch-probe move from `start` toward `end` along probe.direction, see ProbeMove
+  kProgramStop,     // M0: the operator's step (`text`: what to do, e.g. mount the ball bar); axes stay
   kProgramEnd,
 };
 const char* InstrKindName(InstrKind k);
+
+// Plane of an arc: G17 (XY, the angle from +X toward +Y), G18 (ZX: +Z toward +X), G19 (YZ: +Y toward
+// +Z); counter-clockwise (G03, Heidenhain DR+) is the positive sense of that angle.
+enum class ArcPlane { kXY, kZX, kYZ };
 
 enum class FeedMode {
   kPerMinute,       // feed_mm_per_min of the tool reference point
@@ -97,6 +103,8 @@ struct Instr {
   double tip_path_mm = 0.0;     // five-axis: length of the tool tip path in the part frame
 
   Eigen::Vector2d arc_center_xy_mm = Eigen::Vector2d::Zero();
+  double arc_center_z_mm = 0.0;  // arcs in G18 / G19: the centre's Z (its X or Y from arc_center_xy_mm)
+  ArcPlane arc_plane = ArcPlane::kXY;
   bool clockwise = false;
   double arc_angle_rad = 0.0;
 

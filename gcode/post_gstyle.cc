@@ -116,11 +116,19 @@ void GStylePost::Emit(const Instr& in) {
       std::string g = G(in.clockwise ? 2 : 3);
       const std::string mode = FeedModeWord(FeedMode::kPerMinute);
       if (!mode.empty()) g = mode + " " + g;
-      // X and Y always (a full circle ends where it starts), Z / A / C only if they change.
-      std::string body = g + " " + AxisWords(in.end, 0x3, /*force=*/true);
-      const std::string others = AxisWords(in.end, 0x3C);
+      if (in.arc_plane != plane_) {  // G17 is the setup's plane
+        g = G(in.arc_plane == ArcPlane::kXY ? 17 : in.arc_plane == ArcPlane::kZX ? 18 : 19) + " " + g;
+        plane_ = in.arc_plane;
+      }
+      // The plane's two axes always (a full circle ends where it starts), the others only if they change.
+      const unsigned in_plane = in.arc_plane == ArcPlane::kXY ? 0x3u : in.arc_plane == ArcPlane::kZX ? 0x5u : 0x6u;
+      std::string body = g + " " + AxisWords(in.end, in_plane, /*force=*/true);
+      const std::string others = AxisWords(in.end, 0x3Fu & ~in_plane);
       if (!others.empty()) body += " " + others;
-      body += " I" + Lin(in.arc_center_xy_mm.x() - in.start.x_mm) + " J" + Lin(in.arc_center_xy_mm.y() - in.start.y_mm);
+      const std::string i = " I" + Lin(in.arc_center_xy_mm.x() - in.start.x_mm);
+      const std::string j = " J" + Lin(in.arc_center_xy_mm.y() - in.start.y_mm);
+      const std::string k = " K" + Lin(in.arc_center_z_mm - in.start.z_mm);
+      body += in.arc_plane == ArcPlane::kXY ? i + j : in.arc_plane == ArcPlane::kZX ? i + k : j + k;
       const std::string f = FeedWord("F", in.feed_mm_per_min, 3);
       if (!f.empty()) body += " " + f;
       Block(body);
@@ -145,6 +153,10 @@ void GStylePost::Emit(const Instr& in) {
       break;
     case InstrKind::kProbe:
       Probe(in);
+      break;
+    case InstrKind::kProgramStop:
+      if (!in.text.empty()) Comment(in.text);
+      Block(M(0));
       break;
     case InstrKind::kProgramEnd:
       SetTcp(false);

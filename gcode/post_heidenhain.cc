@@ -120,9 +120,16 @@ class HeidenhainPost : public PostBase {
         }
         break;
       case InstrKind::kArc: {
-        Block("CC X" + Lin(in.arc_center_xy_mm.x()) + " Y" + Lin(in.arc_center_xy_mm.y()));
-        std::string body = "C " + AxisWords(in.end, 0x3, true);
-        const std::string others = AxisWords(in.end, 0x3C);
+        // A circle outside the working plane (tool axis Z): CC and C name the plane's two axes.
+        const unsigned in_plane = in.arc_plane == ArcPlane::kXY ? 0x3u : in.arc_plane == ArcPlane::kZX ? 0x5u : 0x6u;
+        const std::string cx = "X" + Lin(in.arc_center_xy_mm.x()), cy = "Y" + Lin(in.arc_center_xy_mm.y());
+        const std::string cz = "Z" + Lin(in.arc_center_z_mm);
+        const std::string pole = in.arc_plane == ArcPlane::kXY   ? cx + " " + cy
+                                 : in.arc_plane == ArcPlane::kZX ? cx + " " + cz
+                                                                 : cy + " " + cz;
+        Block("CC " + pole);
+        std::string body = "C " + AxisWords(in.end, in_plane, true);
+        const std::string others = AxisWords(in.end, 0x3Fu & ~in_plane);
         if (!others.empty()) body += " " + others;
         body += std::string(" DR") + (in.clockwise ? "-" : "+") + " R0";
         const std::string f = FeedF(in.feed_mm_per_min);
@@ -186,6 +193,10 @@ class HeidenhainPost : public PostBase {
         break;
       case InstrKind::kProbe:
         Probe(in);
+        break;
+      case InstrKind::kProgramStop:
+        if (!in.text.empty()) Comment(in.text);
+        Block("M0");
         break;
       case InstrKind::kProgramEnd:
         SetTcp(false);

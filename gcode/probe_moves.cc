@@ -26,6 +26,21 @@ kinematics::AxisState ProbeMergeMasked(const kinematics::AxisState& from, const 
   return s;
 }
 
+// The axes `swept_rad` along arc `in` from its start (the plane's two axes turned about the centre).
+kinematics::AxisState ProbeArcPoint(const Instr& in, double swept_rad) {
+  const Eigen::Vector3d c(in.arc_center_xy_mm.x(), in.arc_center_xy_mm.y(), in.arc_center_z_mm);
+  const Eigen::Vector3d p(in.start.x_mm, in.start.y_mm, in.start.z_mm);
+  const int i1 = in.arc_plane == ArcPlane::kXY ? 0 : in.arc_plane == ArcPlane::kZX ? 2 : 1, i2 = (i1 + 1) % 3;
+  const double a = (in.clockwise ? -1.0 : 1.0) * swept_rad;
+  const double u = p(i1) - c(i1), v = p(i2) - c(i2);
+  Eigen::Vector3d q = p;
+  q(i1) = c(i1) + std::cos(a) * u - std::sin(a) * v;
+  q(i2) = c(i2) + std::sin(a) * u + std::cos(a) * v;
+  kinematics::AxisState s = in.start;
+  s.x_mm = q.x(), s.y_mm = q.y(), s.z_mm = q.z();
+  return s;
+}
+
 }  // namespace
 
 double ProbeRotaryStepDeg(const kinematics::AxisState& a, const kinematics::AxisState& b) {
@@ -41,7 +56,9 @@ void ProbeIrBuilder::Add(Instr in) {
   if (in.kind == InstrKind::kRapid) in.duration_s = d.norm() / rates_.rapid_mm_per_min * 60.0;
   if (in.kind == InstrKind::kIndex) in.duration_s = ProbeRotaryStepDeg(cur_, in.end) / rates_.index_deg_per_min * 60.0;
   prog_->duration_s += in.duration_s;
-  if (in.kind == InstrKind::kProbe || in.kind == InstrKind::kRapid || in.kind == InstrKind::kIndex) cur_ = in.end;
+  if (in.kind == InstrKind::kProbe || in.kind == InstrKind::kRapid || in.kind == InstrKind::kIndex ||
+      in.kind == InstrKind::kLinear || in.kind == InstrKind::kArc)
+    cur_ = in.end;
   prog_->instrs.push_back(std::move(in));
 }
 
@@ -129,8 +146,14 @@ Result<PostedProbing> PostProbingIr(IrProgram ir, const kinematics::MachineModel
   if (options.safety.check_strokes) {
     for (std::size_t i = 0; i < out.ir.instrs.size(); ++i) {
       const Instr& in = out.ir.instrs[i];
-      if (in.kind != InstrKind::kRapid && in.kind != InstrKind::kIndex && in.kind != InstrKind::kProbe) continue;
-      if (Status s = kinematics::CheckStrokes(machine, in.end); !s.ok()) {
+      if (in.kind != InstrKind::kRapid && in.kind != InstrKind::kIndex && in.kind != InstrKind::kProbe &&
+          in.kind != InstrKind::kLinear && in.kind != InstrKind::kArc)
+        continue;
+      Status s = kinematics::CheckStrokes(machine, in.end);
+      if (in.kind == InstrKind::kArc)
+        for (int k = 1; s.ok() && k * 5.0 < RadToDeg(in.arc_angle_rad); ++k)
+          s = kinematics::CheckStrokes(machine, ProbeArcPoint(in, DegToRad(5.0 * k)));
+      if (!s.ok()) {
         return Status(StatusCode::kInvalidArgument, LabelOf(out.posted, static_cast<int>(i)) + ": " +
                                                          InstrKindName(in.kind) +
                                                          " target outside the machine's travel: " + s.message())

@@ -48,6 +48,7 @@ class GStylePost : public PostBase {
   bool length_pending_ = false;
   bool feed_mode_known_ = false;
   FeedMode feed_mode_ = FeedMode::kPerMinute;
+  ArcPlane plane_ = ArcPlane::kXY;  // of the last arc (the setup selects G17)
 };
 
 }  // namespace tpcal::gcode::internal

@@ -1,6 +1,6 @@
-// Shared machinery of the measuring programs that probe with a spindle touch probe (not public
-// API): the datum-ball program (gcode/datum_ball_program.h) and the probe-artifacts program
-// (gcode/probe_artifacts_program.h). The IR builder of their moves (rapids by axis mask, rotary
+// Shared machinery of the measuring programs (not public API): the datum-ball program
+// (gcode/datum_ball_program.h) and the probe-artifacts program (gcode/probe_artifacts_program.h),
+// which probe with a spindle touch probe, and the ball-bar program (gcode/ballbar_program.h). The IR builder of their moves (rapids by axis mask, rotary
 // indexes, probe moves, with the time estimate), the probe tool, the machine fields of the
 // program, and the post-and-check step (post, strokes, dialect whitelist, LinuxCNC tool table).
 // Implemented in gcode/probe_moves.cc (the library compiles gcode/*.cc only).
@@ -40,7 +40,8 @@ class ProbeIrBuilder {
   ProbeIrBuilder(IrProgram* prog, const ProbeMoveRates& rates) : prog_(prog), rates_(rates) {}
 
   // Any instruction: start = the current axes; a probe move's end takes X Y Z from `in.end`, a
-  // rapid's or index's the axes in its axis_mask (the others stay).
+  // rapid's or index's the axes in its axis_mask (the others stay); a linear or arc move's end is
+  // `in.end` as given, its duration_s the caller's.
   void Add(Instr in);
   void Simple(InstrKind kind, int op);
   // Work offset, tool change of tool 0, rapid Z alone to `safe_z_mm` (op 0).
@@ -79,8 +80,8 @@ struct PostedProbing {
   PostedText posted;
 };
 
-// Posts `ir` in options.dialect, checks every rapid / index / probe target against the machine's
-// strokes (options.safety.check_strokes; the error names the block and the program file) and the
+// Posts `ir` in options.dialect, checks every rapid / index / probe / linear / arc target (arcs
+// also every 5 deg along the way) against the machine's strokes (options.safety.check_strokes; the error names the block and the program file) and the
 // dialect whitelist (gcode/dialect_check.h); LinuxCNC: the tool table. Errors: those of PostIr,
 // the checks.
 Result<PostedProbing> PostProbingIr(IrProgram ir, const kinematics::MachineModel& machine,

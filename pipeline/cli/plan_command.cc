@@ -6,12 +6,16 @@
 // tpcal plan --instrument probe_artifacts [--machine M.yaml] [--artifacts A.yaml] [--tilt-deg 0,-30,-60,-90]
 //            [--c-step-deg 60] [--probe-radius-mm 3] -o PLAN.csv [--nc PROGRAM [--dialect D] [--post P.yaml]
 //            [--date YYYY-MM-DD|none]]
+// tpcal plan --instrument ballbar --setup S.yaml [--machine M.yaml] [--angles-deg A,... | --step-deg D]
+//            -o PLAN.csv [--nc PROGRAM [--dialect D] [--post P.yaml] [--date YYYY-MM-DD|none]
+//            [--feed-mm-per-min 1000]]
 //
 // Writes the CMM probing plan of a test piece as the `tpcal plan v1` CSV (docs/formats/probing_plan.md):
 // nominal points and outward normals in the part's DATUM frame, then op, t_s, the
 // rotary axes (A_deg/B_deg, C_deg: those the machine has), X_mm, Y_mm, Z_mm of the machine
 // state that cut each point (pipeline/plan_stage.h). The instruments: pipeline/datum_ball_plan_stage.h
-// (tpcal ballpos v1), pipeline/probe_artifacts_plan_stage.h (tpcal probepts v1).
+// (tpcal ballpos v1), pipeline/probe_artifacts_plan_stage.h (tpcal probepts v1),
+// pipeline/ballbar_plan_stage.h (tpcal ballbar v1).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "pipeline/cli/commands.h"
+#include "pipeline/ballbar_plan_stage.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/datum_ball_plan_stage.h"
 #include "pipeline/io/atomic_file.h"
@@ -44,6 +49,9 @@ struct PlanArgs {
   pipeline::DatumBallPlanRequest ball;
   std::string artifacts;                  // probe_artifacts: --artifacts
   std::optional<double> probe_radius_mm;  // probe_artifacts: --probe-radius-mm
+  std::string setup;                      // ballbar: --setup
+  pipeline::BallbarAngles bar_angles;     // ballbar: --angles-deg, --step-deg
+  std::optional<double> bar_feed_mm_per_min;  // ballbar: --feed-mm-per-min
 };
 
 Status PlanUsageError(const std::string& message) { return Status(StatusCode::kInvalidArgument, message, "tpcal plan"); }
@@ -53,17 +61,24 @@ Status CheckPlanMode(const PlanArgs& a) {
   const pipeline::DatumBallPlanRequest& b = a.ball;
   if (a.instrument.empty()) {
     if (a.piece.testpiece.empty())
-      return PlanUsageError("--testpiece NAME (or --instrument datum_ball or probe_artifacts) is required");
+      return PlanUsageError("--testpiece NAME (or --instrument datum_ball, probe_artifacts or ballbar) is required");
     for (const auto& [name, set] : std::vector<std::pair<std::string, bool>>{
              {"--tilt-deg", !b.tilt_deg.empty()}, {"--c-step-deg", b.c_step_deg.has_value()},
              {"--nc", !b.nc.output.empty()}, {"--dialect", !b.nc.dialect.empty()}, {"--post", !b.nc.post_path.empty()},
              {"--date", !b.nc.date.empty()}}) {
-      if (set) return PlanUsageError(name + " needs --instrument datum_ball or probe_artifacts");
+      const bool every_instrument = name != "--tilt-deg" && name != "--c-step-deg";  // the --nc options
+      if (set)
+        return PlanUsageError(name + (every_instrument ? " needs --instrument datum_ball, probe_artifacts or ballbar"
+                                                       : " needs --instrument datum_ball or probe_artifacts"));
     }
     if (!b.ball_part_mm.empty()) return PlanUsageError("--ball needs --instrument datum_ball");
     if (b.ball_diameter_mm) return PlanUsageError("--ball-diameter needs --instrument datum_ball");
     if (!a.artifacts.empty()) return PlanUsageError("--artifacts needs --instrument probe_artifacts");
     if (a.probe_radius_mm) return PlanUsageError("--probe-radius-mm needs --instrument probe_artifacts");
+    if (!a.setup.empty()) return PlanUsageError("--setup needs --instrument ballbar");
+    if (!a.bar_angles.angles_deg.empty()) return PlanUsageError("--angles-deg needs --instrument ballbar");
+    if (a.bar_angles.step_deg) return PlanUsageError("--step-deg needs --instrument ballbar");
+    if (a.bar_feed_mm_per_min) return PlanUsageError("--feed-mm-per-min needs --instrument ballbar");
     return Status::Ok();
   }
   for (const auto& [name, set] : std::vector<std::pair<std::string, bool>>{
@@ -71,6 +86,22 @@ Status CheckPlanMode(const PlanArgs& a) {
            {"--density", !a.piece.density.empty()}, {"--levels", a.piece.levels.has_value()},
            {"--step", !a.step.empty()}, {"--write-config", !a.write_config.empty()}, {"--dmis", !a.dmis.empty()}}) {
     if (set) return PlanUsageError(name + " is for test pieces, not --instrument " + a.instrument);
+  }
+  if (a.instrument != "ballbar") {
+    if (!a.setup.empty()) return PlanUsageError("--setup is for --instrument ballbar, not " + a.instrument);
+    if (!a.bar_angles.angles_deg.empty())
+      return PlanUsageError("--angles-deg is for --instrument ballbar, not " + a.instrument);
+    if (a.bar_angles.step_deg) return PlanUsageError("--step-deg is for --instrument ballbar, not " + a.instrument);
+    if (a.bar_feed_mm_per_min)
+      return PlanUsageError("--feed-mm-per-min is for --instrument ballbar, not " + a.instrument);
+  } else {
+    if (!b.tilt_deg.empty()) return PlanUsageError("--tilt-deg is not an option of --instrument ballbar");
+    if (b.c_step_deg) return PlanUsageError("--c-step-deg is not an option of --instrument ballbar (--step-deg)");
+    if (!b.ball_part_mm.empty()) return PlanUsageError("--ball is for --instrument datum_ball, not ballbar");
+    if (b.ball_diameter_mm) return PlanUsageError("--ball-diameter is for --instrument datum_ball, not ballbar");
+    if (!a.artifacts.empty()) return PlanUsageError("--artifacts is for --instrument probe_artifacts, not ballbar");
+    if (a.probe_radius_mm) return PlanUsageError("--probe-radius-mm is for --instrument probe_artifacts, not ballbar");
+    return Status::Ok();
   }
   if (a.instrument == "datum_ball") {
     if (!a.artifacts.empty()) return PlanUsageError("--artifacts is for --instrument probe_artifacts, not datum_ball");
@@ -146,8 +177,40 @@ int RunProbeArtifactsPlan(const PlanArgs& args) {
   return kExitOk;
 }
 
+// As RunDatumBallPlan: the stage computes and checks every output before the first is written.
+int RunBallbarPlan(const PlanArgs& args) {
+  pipeline::BallbarPlanRequest request;
+  request.setup_path = args.setup;
+  request.machine_path = args.piece.machine;
+  request.angles = args.bar_angles;
+  request.csv_path = args.out;
+  request.nc = args.ball.nc;
+  if (args.bar_feed_mm_per_min) request.program.feed_mm_per_min = *args.bar_feed_mm_per_min;
+  const std::string table = request.nc.output.empty() ? std::string() : request.nc.output + ".tbl";
+  const Status distinct =
+      CheckDistinctOutputs({{"-o", args.out}, {"--nc", request.nc.output}, {"--nc (tool table)", table}});
+  if (!distinct.ok()) return ReportError(distinct);
+  auto stage = pipeline::RunBallbarPlanStage(request);
+  if (!stage.ok()) return ReportError(stage.status());
+  Info(fmt::format("tpcal plan: ball bar on {}: {} installations, {} readings", stage->machine, stage->tests.size(),
+                   stage->readings.rows.size()));
+  if (request.machine_path.empty()) Info("tpcal plan: no --machine: nominal bhead_ctable with unlimited strokes");
+  for (const pipeline::GcodeFile& f : stage->files) {
+    if (Status s = pipeline::WriteFileAtomic(f.path, f.text); !s.ok()) return ReportError(s);
+  }
+  Info("wrote " + args.out + " (tpcal ballbar v1 plan: the readings to take, dl_um 0)");
+  if (stage->posted) {
+    Info(fmt::format("wrote {} ({}, {} blocks, {} installations, time estimate {:.0f} s)", request.nc.output,
+                     gcode::DialectTitle(stage->options.dialect), stage->posted->posted.block_count,
+                     stage->tests.size(), stage->posted->ir.duration_s));
+    if (!stage->posted->tool_table_text.empty()) Info("wrote " + table + " (LinuxCNC tool table, inches)");
+  }
+  return kExitOk;
+}
+
 int RunPlan(const PlanArgs& args) {
   if (Status s = CheckPlanMode(args); !s.ok()) return ReportError(s);
+  if (args.instrument == "ballbar") return RunBallbarPlan(args);
   if (args.instrument == "probe_artifacts") return RunProbeArtifactsPlan(args);
   if (!args.instrument.empty()) return RunDatumBallPlan(args);
   if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--step", args.step}, {"--write-config", args.write_config}, {"--dmis", args.dmis}});
@@ -193,7 +256,9 @@ Command RegisterPlan(CLI::App& app) {
       "(A_deg, C_deg on A/C tables; B_deg on B/C), and X_mm, Y_mm, Z_mm of the tool reference point.\n"
       "With --instrument datum_ball: the plan of a datum-ball test (tpcal ballpos v1) and its probing program.\n"
       "With --instrument probe_artifacts: the plan of an on-machine probing test of artifacts (tpcal probepts v1:\n"
-      "A_deg, C_deg, artifact, face, nominal contact x,y,z in mm and approach i,j,k, machine frame) and its program.");
+      "A_deg, C_deg, artifact, face, nominal contact x,y,z in mm and approach i,j,k, machine frame) and its program.\n"
+      "With --instrument ballbar: the readings of a double-ball-bar test (tpcal ballbar v1: setup, angle_deg,\n"
+      "dl_um 0) and its program.");
   AddPieceOptions(sub, &args->piece, /*machine_required=*/false);
   sub->get_option("--testpiece")->required(false);  // or --instrument
   sub->add_option("-o,--output", args->out, "plan CSV to write (docs/formats/probing_plan.md)")->required();
@@ -211,8 +276,24 @@ Command RegisterPlan(CLI::App& app) {
                   "A x C pose): -o gets the nominal contact points x,y,z (mm) and approach directions i,j,k (machine "
                   "frame) as tpcal probepts v1 (docs/formats/probepts.md), one row per planned touch; touches a "
                   "collision rules out (face down, corridor blocked) are listed on stderr with their reason; --nc the "
-                  "probing program; --machine is the A/C table (default: the nominal ac_table)")
-      ->check(CLI::IsMember({"datum_ball", "probe_artifacts"}));
+                  "probing program; --machine is the A/C table (default: the nominal ac_table). ballbar: plan a "
+                  "double-ball-bar test (seed 003; ISO 230-4 circular tests) of the installations of --setup: -o "
+                  "gets one row per reading to take as tpcal ballbar v1 (docs/formats/ballbar.md: setup, angle_deg, "
+                  "dl_um 0, and direction cw/ccw when a circle is planned), --nc the test program (the rotary axis "
+                  "indexed with the tool ball following, or the circle ccw then cw); --machine default: the nominal "
+                  "bhead_ctable")
+      ->check(CLI::IsMember({"datum_ball", "probe_artifacts", "ballbar"}));
+  sub->add_option("--setup", args->setup,
+                  "ballbar: the installations, YAML (schema tpcal.ballbar_setup/1, docs/formats/ballbar_setup.md; "
+                  "part / tool frame, mm), e.g. samples/ballbar/seed003_setups.yaml");
+  sub->add_option("--angles-deg", args->bar_angles.angles_deg,
+                  "ballbar: the angles of every installation, deg (rotary command, or a circle's path angle); default "
+                  "C 0..360 every 20, A or B 0..-100 every 5, circles 0..359 every 1 (seed 003)")
+      ->delimiter(',');
+  sub->add_option("--step-deg", args->bar_angles.step_deg,
+                  "ballbar: the default ranges in this step, deg (instead of 20 / 5 / 1)");
+  sub->add_option("--feed-mm-per-min", args->bar_feed_mm_per_min,
+                  "ballbar: contouring feed of the circular tests in --nc, mm/min; default 1000");
   sub->add_option("--tilt-deg", b.tilt_deg,
                   "datum_ball: tilt-axis (B or A) commands, deg; default 0,30,-30. probe_artifacts: A commands, deg; "
                   "default 0,-30,-60,-90")
@@ -229,7 +310,8 @@ Command RegisterPlan(CLI::App& app) {
                   "probe_artifacts: stylus ball radius, mm (the collision corridors grow by it); default 3");
   sub->add_option("--nc", b.nc.output,
                   "also write the probing NC program (gcode/DIALECTS.md; datum_ball: 5 touches per position; "
-                  "probe_artifacts: one touch per planned face); its stem (upper case) names the program; LinuxCNC "
+                  "probe_artifacts: one touch per planned face; ballbar: the test, M0 to mount and to remove the bar "
+                  "at each installation, a dwell per reading); its stem (upper case) names the program; LinuxCNC "
                   "also gets PROGRAM.tbl");
   sub->add_option("--dialect", b.nc.dialect,
                   "controller of --nc: fanuc, linuxcnc, sinumerik, heidenhain; default: from the extension of --nc "

@@ -8,12 +8,16 @@
 //                [--noise-um S] [--seed N] [--tilt-deg A,...] [--c-step-deg D] [--probe-radius-mm R]
 //                [--pretravel-um P0] [--pretravel-lobing-um P3] [--seconds-per-touch S]
 //                -o PROBEPTS.csv [--truth TRUTH.yaml]
+// tpcal simulate --instrument ballbar --setup S.yaml [--machine M.yaml] --errors E.yaml [--noise-um S]
+//                [--seed N] [--angles-deg A,... | --step-deg D] [--seconds-per-reading S]
+//                -o BALLBAR.csv [--truth TRUTH.yaml]
 //
 // Virtual machining and measurement of a test piece (pipeline/simulate_stage.h): a `tpcal points
 // v1` CSV (docs/formats/points.md); or the virtual datum-ball instrument
 // (pipeline/datum_ball_simulate_stage.h): a `tpcal ballpos v1` CSV (docs/formats/ballpos.md); or
 // the virtual probing test of artifacts (pipeline/probe_artifacts_simulate_stage.h): a `tpcal
-// probepts v1` CSV (docs/formats/probepts.md).
+// probepts v1` CSV (docs/formats/probepts.md); or the virtual double ball bar
+// (pipeline/ballbar_simulate_stage.h): a `tpcal ballbar v1` CSV (docs/formats/ballbar.md).
 // Optionally the stated truth.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -24,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/ballbar_simulate_stage.h"
 #include "pipeline/cli/ball_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
@@ -48,6 +53,10 @@ struct SimulateArgs {
   std::string artifacts;
   kinematics::TouchOptions touch;
   double seconds_per_touch = 10.0;
+  // ballbar only
+  std::string setup;
+  pipeline::BallbarAngles bar_angles;
+  double seconds_per_reading = 5.0;
 };
 
 // Options of one path given on the other: their names, for the message.
@@ -56,17 +65,19 @@ const char* const kPieceOnly[] = {"--config", "--density", "--levels", "--proces
 const char* const kBallOnly[] = {"--ball", "--seconds-per-position"};
 const char* const kProbeOnly[] = {"--artifacts", "--probe-radius-mm", "--pretravel-um", "--pretravel-lobing-um",
                                   "--seconds-per-touch"};
-const char* const kInstrumentOnly[] = {"--tilt-deg", "--c-step-deg"};  // both instruments
+const char* const kInstrumentOnly[] = {"--tilt-deg", "--c-step-deg"};  // datum_ball, probe_artifacts
+const char* const kBarOnly[] = {"--setup", "--angles-deg", "--step-deg", "--seconds-per-reading"};
 
 Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
   const bool instrument = !args.instrument.empty();
   const bool ball = args.instrument == "datum_ball";
+  const bool bar = args.instrument == "ballbar";
   if (instrument && !args.piece.testpiece.empty())
     return Status(StatusCode::kInvalidArgument,
                   "--testpiece and --instrument: give one (a test piece to machine and measure, or an instrument)");
   if (!instrument && args.piece.testpiece.empty())
     return Status(StatusCode::kInvalidArgument,
-                  "--testpiece NAME (or --instrument datum_ball or probe_artifacts) is required");
+                  "--testpiece NAME (or --instrument datum_ball, probe_artifacts or ballbar) is required");
   if (!instrument && args.piece.machine.empty())
     return Status(StatusCode::kInvalidArgument, "--machine is required with --testpiece");
   auto named = [&](std::span<const char* const> names) -> const char* {
@@ -78,8 +89,15 @@ Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
     if (const char* n = named(kPieceOnly))
       return Status(StatusCode::kInvalidArgument,
                     std::string(n) + " is a test-piece option, not one of --instrument " + args.instrument);
-    if (const char* n = named(ball ? std::span<const char* const>(kProbeOnly) : std::span<const char* const>(kBallOnly)))
-      return Status(StatusCode::kInvalidArgument, std::string(n) + " is not an option of --instrument " + args.instrument);
+    for (std::span<const char* const> other :
+         bar ? std::vector<std::span<const char* const>>{kBallOnly, kProbeOnly, kInstrumentOnly}
+             : std::vector<std::span<const char* const>>{ball ? std::span<const char* const>(kProbeOnly)
+                                                               : std::span<const char* const>(kBallOnly),
+                                                          kBarOnly}) {
+      if (const char* n = named(other))
+        return Status(StatusCode::kInvalidArgument,
+                      std::string(n) + " is not an option of --instrument " + args.instrument);
+    }
   } else {
     if (const char* n = named(kInstrumentOnly))
       return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument datum_ball or probe_artifacts");
@@ -87,6 +105,8 @@ Status CheckPathOptions(const CLI::App& sub, const SimulateArgs& args) {
       return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument datum_ball");
     if (const char* n = named(kProbeOnly))
       return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument probe_artifacts");
+    if (const char* n = named(kBarOnly))
+      return Status(StatusCode::kInvalidArgument, std::string(n) + " needs --instrument ballbar");
   }
   if (ball) {
     auto b = BallOption(args.ball_mm);
@@ -147,10 +167,35 @@ int RunProbeArtifactsSimulate(const SimulateArgs& args) {
   return kExitOk;
 }
 
+int RunBallbarSimulate(const SimulateArgs& args) {
+  pipeline::BallbarSimRequest request;
+  request.setup_path = args.setup;
+  request.machine_path = args.piece.machine;
+  request.errors_path = args.request.errors_path;
+  request.output_path = args.out;
+  request.angles = args.bar_angles;
+  request.noise_um = args.request.noise_um;
+  request.seed = args.request.seed;
+  request.seconds_per_reading = args.seconds_per_reading;
+  request.truth = !args.truth.empty();
+  auto sim = pipeline::RunBallbarSimulateStage(request);
+  if (!sim.ok()) return ReportError(sim.status());
+  if (Status s = pipeline::WriteFileAtomic(args.out, sim->csv); !s.ok()) return ReportError(s);
+  Info(fmt::format("wrote {}: {} ball-bar readings of {} installations (noise {} um, seed {}{})", args.out,
+                   sim->file.rows.size(), sim->tests.size(), request.noise_um, request.seed,
+                   sim->timed ? ", with t_s: the errors have thermal terms" : ""));
+  if (!args.truth.empty()) {
+    if (Status s = pipeline::WriteFileAtomic(args.truth, sim->truth_yaml); !s.ok()) return ReportError(s);
+    Info("wrote " + args.truth);
+  }
+  return kExitOk;
+}
+
 int RunSimulate(const CLI::App& sub, const SimulateArgs& args) {
   if (Status s = CheckPathOptions(sub, args); !s.ok()) return ReportError(s);
   if (!args.instrument.empty()) {
     if (Status s = CheckDistinctOutputs({{"-o", args.out}, {"--truth", args.truth}}); !s.ok()) return ReportError(s);
+    if (args.instrument == "ballbar") return RunBallbarSimulate(args);
     return args.instrument == "probe_artifacts" ? RunProbeArtifactsSimulate(args) : RunDatumBallSimulate(args);
   }
   // Everything is read and checked before anything is written.
@@ -198,18 +243,34 @@ Command RegisterSimulate(CLI::App& app) {
       "of the plan (`tpcal plan --instrument probe_artifacts`) solved through the full chain with the errors\n"
       "(thermal terms at t_s = touch index x --seconds-per-touch), the stylus pre-travel added along the approach,\n"
       "plus Gaussian noise along the approach; writes a tpcal probepts v1 CSV (contact x,y,z in mm to 0.1 um and\n"
-      "approach i,j,k, machine frame).");
+      "approach i,j,k, machine frame).\n"
+      "With --instrument ballbar: the virtual double ball bar (seed 003; ISO 230-4 circular tests): every reading of\n"
+      "the plan (`tpcal plan --instrument ballbar`: the --setup installations at their angles) is the bar-length\n"
+      "change through the full chain with the errors (thermal terms at t_s = reading index x --seconds-per-reading)\n"
+      "plus Gaussian noise, rounded to 0.1 um; writes a tpcal ballbar v1 CSV (setup, angle_deg, dl_um).");
   AddPieceOptions(sub, &args->piece, /*machine_required=*/true);
   // Required on the test-piece path only (checked in RunSimulate).
   sub->get_option("--testpiece")->required(false);
   sub->get_option("--machine")->required(false)->description(
       "machine model YAML (schema tpcal.machine/1, samples/machines/); required with --testpiece; "
       "--instrument datum_ball: default the nominal bc_table; --instrument probe_artifacts: an A/C table, default "
-      "the nominal ac_table");
+      "the nominal ac_table; --instrument ballbar: default the nominal bhead_ctable");
   sub->add_option("--instrument", args->instrument,
-                  "datum_ball or probe_artifacts: simulate that instrument instead of a test piece (not with "
+                  "datum_ball, probe_artifacts or ballbar: simulate that instrument instead of a test piece (not with "
                   "--testpiece)")
-      ->check(CLI::IsMember({"datum_ball", "probe_artifacts"}));
+      ->check(CLI::IsMember({"datum_ball", "probe_artifacts", "ballbar"}));
+  sub->add_option("--setup", args->setup,
+                  "ballbar: the installations, YAML (schema tpcal.ballbar_setup/1, docs/formats/ballbar_setup.md; "
+                  "mm), e.g. samples/ballbar/seed003_setups.yaml; required with --instrument ballbar");
+  sub->add_option("--angles-deg", args->bar_angles.angles_deg,
+                  "ballbar: the angles of every installation, deg (default C 0..360 every 20, A or B 0..-100 every "
+                  "5, circles 0..359 every 1, ccw then cw)")
+      ->delimiter(',');
+  sub->add_option("--step-deg", args->bar_angles.step_deg, "ballbar: the default ranges in this step, deg");
+  sub->add_option("--seconds-per-reading", args->seconds_per_reading,
+                  "ballbar: time between readings, s (t_s of reading i = i x this; only when the errors have thermal "
+                  "terms)")
+      ->capture_default_str();
   sub->add_option("--tilt-deg", args->tilt_deg,
                   "datum_ball: tilt-axis (B or A) commands, deg (default 0,30,-30); probe_artifacts: A commands, deg "
                   "(default 0,-30,-60,-90)")
@@ -249,7 +310,7 @@ Command RegisterSimulate(CLI::App& app) {
                   "backlash_x_um, backlash_y_um}; default none");
   sub->add_option("--noise-um", args->request.noise_um,
                   "1-sigma CMM probing noise along the normal, um (datum_ball: of each coordinate of a reading; "
-                  "probe_artifacts: of each contact along its approach)")
+                  "probe_artifacts: of each contact along its approach; ballbar: of each bar reading dl)")
       ->capture_default_str();
   sub->add_option("--seed", args->request.seed, "seed of std::mt19937_64 (placement, then noise)")->capture_default_str();
   sub->add_option("--placement", args->request.placement,
@@ -264,7 +325,8 @@ Command RegisterSimulate(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("-o,--output", args->out,
                   "point CSV to write (docs/formats/points.md); datum_ball: ball-position CSV (docs/formats/ballpos.md); "
-                  "probe_artifacts: probed-point CSV (docs/formats/probepts.md)")
+                  "probe_artifacts: probed-point CSV (docs/formats/probepts.md); ballbar: ball-bar CSV "
+                  "(docs/formats/ballbar.md)")
       ->required();
   sub->add_option("--truth", args->truth, "also write the stated truth as YAML (schema tpcal.simulation_truth/1)");
   return {sub, [args, sub] { return RunSimulate(*sub, *args); }};

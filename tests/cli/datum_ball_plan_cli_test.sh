@@ -76,7 +76,7 @@ bad_input)
   expect_bad '^tpcal plan: --dialect: expected fanuc' --instrument datum_ball -o p.csv --nc p.nc --dialect okuma
   expect_bad '^tpcal plan: --testpiece is for test pieces' --instrument datum_ball --testpiece iso10791_m2 -o p.csv
   expect_bad '^tpcal plan: --nc needs --instrument datum_ball' --testpiece iso10791_m2 -o p.csv --nc p.ngc
-  expect_bad '^tpcal plan: --testpiece NAME \(or --instrument datum_ball or probe_artifacts\) is required' -o p.csv
+  expect_bad '^tpcal plan: --testpiece NAME \(or --instrument datum_ball, probe_artifacts or ballbar\) is required' -o p.csv
   expect_bad 'datum-ball plan: machine type xyz' --instrument datum_ball --machine "$SRC/samples/machines/xyz.yaml" -o p.csv
   # A ball beyond the X stroke of the sample B/C table: the program's stroke check names the
   # block, and neither the plan nor the program is written.
