@@ -5,6 +5,7 @@
 
 #include "gcode/nc_format.h"
 #include "kinematics/machine_yaml.h"
+#include "pipeline/ballbar_machine.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -13,11 +14,6 @@ namespace {
 
 Status BarPlanArgError(const std::string& message, const std::string& command) {
   return Status(StatusCode::kInvalidArgument, message, command);
-}
-
-Result<kinematics::MachineModel> BarPlanMachine(const std::string& path) {
-  if (!path.empty()) return kinematics::LoadMachineModel(path);
-  return kinematics::MakeMachine(kinematics::MachineType::kBheadCtable);
 }
 
 // 0, step, 2 step, ... up to `end_deg` (its sign gives the direction), end included when reached.
@@ -113,10 +109,10 @@ std::string FormatBallbarPlan(const BallbarFile& readings, const std::string& ma
 
 Result<BallbarPlanResult> RunBallbarPlanStage(const BallbarPlanRequest& r) {
   if (r.setup_path.empty()) return BarPlanArgError("--setup S.yaml is needed with --instrument ballbar", "tpcal plan");
-  auto machine = BarPlanMachine(r.machine_path);
-  if (!machine.ok()) return machine.status();
   auto setup = kinematics::LoadBallbarSetup(r.setup_path);
   if (!setup.ok()) return setup.status().file().empty() ? setup.status().WithLocation(r.setup_path) : setup.status();
+  auto machine = BallbarMachine(r.machine_path, *setup);
+  if (!machine.ok()) return machine.status();
   BallbarPlanResult out;
   out.setup = std::move(setup).value();
   out.machine = machine->name.empty() ? kinematics::MachineTypeName(machine->type) : machine->name;

@@ -9,6 +9,7 @@
 #include "kinematics/ballbar.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/machine_yaml.h"
+#include "pipeline/ballbar_machine.h"
 #include "pipeline/truth_yaml_text.h"
 
 namespace tpcal::pipeline {
@@ -102,12 +103,11 @@ Result<BallbarSimulation> RunBallbarSimulateStage(const BallbarSimRequest& reque
   if (request.setup_path.empty())
     return Status(StatusCode::kInvalidArgument, "--setup S.yaml is needed with --instrument ballbar", "tpcal simulate");
   if (Status s = request.Validate(); !s.ok()) return s;
-  auto model = request.machine_path.empty() ? kinematics::MakeMachine(kinematics::MachineType::kBheadCtable)
-                                            : kinematics::LoadMachineModel(request.machine_path);
-  if (!model.ok()) return model.status();
   auto setup = kinematics::LoadBallbarSetup(request.setup_path);
   if (!setup.ok())
     return setup.status().file().empty() ? setup.status().WithLocation(request.setup_path) : setup.status();
+  auto model = BallbarMachine(request.machine_path, *setup);
+  if (!model.ok()) return model.status();
   auto errors = kinematics::LoadErrorState(request.errors_path, *model);
   if (!errors.ok())
     return errors.status().file().empty() ? errors.status().WithLocation(request.errors_path) : errors.status();

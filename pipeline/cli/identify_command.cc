@@ -1,6 +1,8 @@
 // tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--anchor FEATURE@X,Y,Z]
 //                [--uncertainty jackknife|analytic|mc|all] [--parameters P,...] [--json OUT]
 //                tpcal identify BALLPOS --instrument datum_ball [--machine M.yaml] [--parameters P,...] [--ball X,Y,Z] [--json OUT]
+//                tpcal identify PROBEPTS --instrument probe_artifacts [--artifacts A.yaml] [--machine M.yaml] [--json OUT]
+//                tpcal identify BALLBAR --instrument ballbar --setup S.yaml [--machine M.yaml] [--json OUT] [--errors-out E.yaml]
 #include <CLI/CLI.hpp>
 
 #include <memory>
@@ -12,6 +14,7 @@
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/cli/ball_option.h"
+#include "pipeline/ballbar_stage.h"
 #include "pipeline/datum_ball_stage.h"
 #include "pipeline/probe_artifacts_stage.h"
 #include "pipeline/identify_report.h"
@@ -34,7 +37,26 @@ struct IdentifyArgs {
   std::string artifacts;   // probe_artifacts: the artifact YAML ("" = seed 000's three columns)
   std::string html;        // probe_artifacts: the page with the error-map figures
   std::vector<double> reference_pose_deg = {0.0, 0.0};  // probe_artifacts: A, C of the zero pose
+  std::string setup;       // ballbar: the installations (tpcal.ballbar_setup/1)
 };
+
+int RunBallbar(const IdentifyArgs& args) {
+  if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
+    return ReportError(s);
+  auto report = pipeline::RunBallbarStage(
+      {.path = args.request.points_path, .setup_path = args.setup, .machine_path = args.request.machine_path});
+  if (!report.ok()) return ReportError(report.status());
+  const int exit =
+      WriteJsonOrText(args.json, pipeline::BallbarJson(*report), [&] { return pipeline::BallbarText(*report); });
+  if (exit != kExitOk || args.errors_out.empty()) return exit;
+  if (report->errors_yaml.empty()) {
+    return ReportError(Status(StatusCode::kInvalidArgument,
+                              "--errors-out: the test has no rotary installation, so no error tables to write"));
+  }
+  if (Status s = pipeline::WriteFileAtomic(args.errors_out, report->errors_yaml); !s.ok()) return ReportError(s);
+  Info("wrote " + args.errors_out + " (tpcal.errors/1)");
+  return kExitOk;
+}
 
 int RunProbeArtifacts(const IdentifyArgs& args) {
   if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}, {"--html", args.html}});
@@ -83,8 +105,11 @@ int RunDatumBall(const IdentifyArgs& args) {
 }
 
 int RunIdentify(const IdentifyArgs& args) {
+  if (!args.setup.empty() && args.instrument != "ballbar")
+    return ReportError(Status(StatusCode::kInvalidArgument, "--setup needs --instrument ballbar"));
   if (args.instrument == "datum_ball") return RunDatumBall(args);
   if (args.instrument == "probe_artifacts") return RunProbeArtifacts(args);
+  if (args.instrument == "ballbar") return RunBallbar(args);
   auto labelling = ParseAnchor(args.anchor);
   if (!labelling.ok()) return ReportError(labelling.status());
   pipeline::IdentifyRequest request = args.request;
@@ -114,7 +139,7 @@ Command RegisterIdentify(CLI::App& app) {
   sub->add_option("POINTS", args->request.points_path,
                   "measured point file (tpcal points CSV, PLY, PCD, xyz text; mm), or with --instrument datum_ball "
                   "a ball-position file (tpcal ballpos v1), with --instrument probe_artifacts a probed-point file "
-                  "(tpcal probepts v1)")
+                  "(tpcal probepts v1), with --instrument ballbar a ball-bar file (tpcal ballbar v1)")
       ->required();
   sub->add_option("--instrument", args->instrument,
                   "datum_ball: POINTS holds datum-ball centres at rotary commands (touch probe, R-test); the location "
@@ -127,8 +152,18 @@ Command RegisterIdentify(CLI::App& app) {
                   "positions (seed 000); the table pose at every position (um, urad, relative to the reference "
                   "pose), then the error maps of the A axis (E_XA..E_CA over A) and of the C axis (E_XC..E_CC over "
                   "C at every A, zero mean over C) with u (k = 1) and 95 % intervals; what the plan cannot "
-                  "determine is named. `tpcal simulate --instrument probe_artifacts` writes such a file")
-      ->check(CLI::IsMember({"datum_ball", "probe_artifacts"}));
+                  "determine is named. `tpcal simulate --instrument probe_artifacts` writes such a file.\n"
+                  "ballbar: POINTS holds double-ball-bar length changes (um) of the installations of --setup "
+                  "(seed 003; ISO 230-4): for each turned rotary axis its six error motions (E_X..E_C, um and "
+                  "urad) at every measured angle with u (k = 1) and 95 % intervals, the bar-length offsets and "
+                  "ball centring fitted and removed as set-up terms, and the families the installations cannot "
+                  "separate named; for each circle installation the circular-test figures (circular deviation, "
+                  "hysteresis, squareness, scale mismatch, reversal) with u; --machine default: the nominal "
+                  "bhead_ctable (seed 003) when an installation turns a rotary axis, else xyz")
+      ->check(CLI::IsMember({"datum_ball", "probe_artifacts", "ballbar"}));
+  sub->add_option("--setup", args->setup,
+                  "with --instrument ballbar (required): the installations (tpcal.ballbar_setup/1 YAML: kind, "
+                  "turned axis or plane, ball positions in mm, nominal bar length in mm)");
   sub->add_option("--artifacts", args->artifacts,
                   "with --instrument probe_artifacts: the artifacts (tpcal.artifacts/1 YAML, part frame, mm); "
                   "default: seed 000's three 30 x 30 x 60 mm columns at (100, 0), (-100, 0), (0, 100)");
