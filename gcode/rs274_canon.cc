@@ -4,15 +4,10 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "gcode/internal/gstyle_lexer.h"
+
 namespace tpcal::gcode {
 namespace {
-
-std::string Trim(std::string_view s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return std::string(s.substr(a, b - a));
-}
 
 // Splits "a, b c, d" on commas and spaces (USE_TOOL_LENGTH_OFFSET mixes both).
 std::vector<double> Numbers(const std::string& args, bool* ok) {
@@ -48,7 +43,7 @@ Result<Rs274Listing> ParseRs274Listing(std::string_view text) {
   while (pos < text.size()) {
     std::size_t eol = text.find('\n', pos);
     if (eol == std::string_view::npos) eol = text.size();
-    const std::string line = Trim(text.substr(pos, eol - pos));
+    const std::string line = internal::Trim(text.substr(pos, eol - pos));
     pos = eol + 1;
     ++line_no;
     if (line.empty()) continue;
@@ -64,7 +59,7 @@ Result<Rs274Listing> ParseRs274Listing(std::string_view text) {
     }
     std::string call;
     std::getline(ls, call);
-    call = Trim(call);
+    call = internal::Trim(call);
     const std::size_t open = call.find('(');
     const std::size_t close = call.rfind(')');
     if (open == std::string::npos || close == std::string::npos || close < open) return bad("expected CALL(...)");
@@ -141,7 +136,7 @@ std::string Rs274Errors(int exit_status, std::string_view stdout_text, std::stri
   std::istringstream es{std::string(stderr_text)};
   std::string line;
   while (std::getline(es, line)) {
-    const std::string t = Trim(line);
+    const std::string t = internal::Trim(line);
     if (t.empty() || t == "executing") continue;
     err += (err.empty() ? "" : " | ") + t;
   }

@@ -17,6 +17,7 @@
 #include "kinematics/identification.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/diagnosis/diagnosis_cv.h"
+#include "pipeline/diagnosis/internal/validation_draws.h"
 #include "pipeline/diagnosis/validation_injections.h"
 #include "testpieces/default_parameters.h"
 #include "testpieces/simulate_piece.h"
@@ -58,8 +59,8 @@ const std::vector<std::string>& VerdictColumns() {
   return c;
 }
 
-double Uniform(std::mt19937_64& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-int Pick(std::mt19937_64& rng, int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng); }
+using internal::Pick;
+using internal::Uniform;
 double RandomSign(std::mt19937_64& rng) { return Pick(rng, 2) ? 1.0 : -1.0; }
 
 // One withheld effect at unit scale: machine terms (an ErrorState holding only them), process

@@ -9,11 +9,13 @@
 #include <set>
 #include <vector>
 
+#include "pipeline/diagnosis/internal/validation_draws.h"
+
 namespace tpcal::pipeline {
 namespace {
 
-int Pick(std::mt19937_64& rng, int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng); }
-double Uniform(std::mt19937_64& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
+using internal::Pick;
+using internal::Uniform;
 
 // The indices of `feature`'s points, nearest `centre` first.
 std::vector<int> NearestOnFeature(const testpieces::ProbingPlan& plan, const std::string& feature,
