@@ -1,6 +1,5 @@
 #include "kinematics/artifacts_yaml.h"
 
-#include <charconv>
 #include <set>
 
 #include "kinematics/internal/yaml_util.h"
@@ -16,41 +15,6 @@ namespace {
 
 constexpr const char* kArtifactsSchema = "tpcal.artifacts/1";
 
-// Shortest text that reads back to the same double (at most 17 significant digits).
-std::string ArtifactsFmt(double v) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-  return ec == std::errc() ? std::string(buf, end) : std::string(".nan");
-}
-
-// A YAML double-quoted scalar of a printable name (y::Printable: no control byte but tab).
-std::string ArtifactsQuoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\t') {
-      out += "\\t";
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
-
-// A name is written as a field of the probed-point CSV (pipeline/io/probepts_io.h), which splits
-// at commas, trims blanks and skips lines starting with '#'.
-bool ArtifactsNameFitsCsv(const std::string& name) {
-  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
-  return name.find(',') == std::string::npos && name.front() != '#' && !blank(name.front()) && !blank(name.back());
-}
-
-Result<Eigen::Vector3d> ArtifactsVector(const std::string& src, const std::vector<y::MapEntry>& entries,
-                                        const YAML::Node& where, const std::string& key, const std::string& what) {
-  const y::MapEntry* e = y::Find(entries, key);
-  if (!e) return y::Error(src, where, what + ": missing '" + key + "' ([x, y, z], mm)");
-  return y::Vector3(src, e->value, what + "." + key);
-}
-
 Result<ArtifactBox> ArtifactsBox(const std::string& src, const YAML::Node& node, const std::string& what) {
   Result<std::vector<y::MapEntry>> entries = y::Entries(src, node, what);
   TPCAL_RETURN_IF_ERROR(entries);
@@ -58,20 +22,13 @@ Result<ArtifactBox> ArtifactsBox(const std::string& src, const YAML::Node& node,
   ArtifactBox box;
   const y::MapEntry* name = y::Find(*entries, "name");
   if (!name) return y::Error(src, node, what + ": missing 'name' (as in the probed-point file's artifact column)");
-  Result<std::string> s = y::String(src, name->value, what + ".name");
+  Result<std::string> s = y::CsvName(src, name->value, what, "the probed-point file");
   TPCAL_RETURN_IF_ERROR(s);
-  if (s->empty()) return y::Error(src, name->value, what + ".name: expected a non-empty name");
-  if (!ArtifactsNameFitsCsv(*s)) {
-    return y::Error(src, name->value,
-                    what + ".name '" + EchoInput(*s) +
-                        "': expected no comma, no leading '#' and no leading or trailing blank (the name is a "
-                        "field of the probed-point file)");
-  }
   box.name = *s;
-  Result<Eigen::Vector3d> base = ArtifactsVector(src, *entries, node, "base_centre_mm", what);
+  Result<Eigen::Vector3d> base = y::Vector3At(src, *entries, node, "base_centre_mm", what);
   TPCAL_RETURN_IF_ERROR(base);
   box.base_centre_mm = *base;
-  Result<Eigen::Vector3d> size = ArtifactsVector(src, *entries, node, "size_mm", what);
+  Result<Eigen::Vector3d> size = y::Vector3At(src, *entries, node, "size_mm", what);
   TPCAL_RETURN_IF_ERROR(size);
   if (!(size->minCoeff() > 0.0)) {
     return y::Error(src, y::Find(*entries, "size_mm")->value, what + ".size_mm: every extent must be > 0");
@@ -138,12 +95,9 @@ Result<ArtifactSet> LoadArtifactsYaml(const std::string& path) {
 
 std::string FormatArtifactsYaml(const ArtifactSet& set) {
   std::string out = std::string("schema: ") + kArtifactsSchema + "\nartifacts:\n";
-  const auto vec = [](const Eigen::Vector3d& v) {
-    return "[" + ArtifactsFmt(v.x()) + ", " + ArtifactsFmt(v.y()) + ", " + ArtifactsFmt(v.z()) + "]";
-  };
   for (const ArtifactBox& b : set.boxes) {
-    out += "  - {name: " + ArtifactsQuoted(b.name) + ", base_centre_mm: " + vec(b.base_centre_mm) +
-           ", size_mm: " + vec(b.size_mm) + ", rotation_deg: " + ArtifactsFmt(b.rotation_deg) + "}\n";
+    out += "  - {name: " + y::Quoted(b.name) + ", base_centre_mm: " + y::FormatVector3(b.base_centre_mm) +
+           ", size_mm: " + y::FormatVector3(b.size_mm) + ", rotation_deg: " + y::FormatDouble(b.rotation_deg) + "}\n";
   }
   return out;
 }

@@ -1,6 +1,5 @@
 #include "kinematics/ballbar_setup.h"
 
-#include <charconv>
 #include <set>
 
 #include "kinematics/internal/yaml_util.h"
@@ -16,44 +15,11 @@ namespace {
 
 constexpr const char* kBbsSchema = "tpcal.ballbar_setup/1";
 
-std::string BbsFmt(double v) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-  return ec == std::errc() ? std::string(buf, end) : std::string(".nan");
-}
-
-std::string BbsQuoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\t') {
-      out += "\\t";
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
-
-// The name is the `setup` field of the ball-bar CSV, which splits at commas, trims blanks and
-// skips lines starting with '#'.
-bool BbsNameFitsCsv(const std::string& name) {
-  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
-  return name.find(',') == std::string::npos && name.front() != '#' && !blank(name.front()) && !blank(name.back());
-}
-
 Result<double> BbsNumber(const std::string& src, const std::vector<y::MapEntry>& entries, const YAML::Node& where,
                          const std::string& key, const std::string& what) {
   const y::MapEntry* e = y::Find(entries, key);
   if (!e) return y::Error(src, where, what + ": missing '" + key + "'");
   return y::Double(src, e->value, what + "." + key);
-}
-
-Result<Eigen::Vector3d> BbsVector(const std::string& src, const std::vector<y::MapEntry>& entries,
-                                  const YAML::Node& where, const std::string& key, const std::string& what) {
-  const y::MapEntry* e = y::Find(entries, key);
-  if (!e) return y::Error(src, where, what + ": missing '" + key + "' ([x, y, z], mm)");
-  return y::Vector3(src, e->value, what + "." + key);
 }
 
 Status BbsHold(const std::string& src, const YAML::Node& node, const std::string& what, BallbarInstallation* inst) {
@@ -110,20 +76,14 @@ Result<BallbarInstallation> BbsInstallation(const std::string& src, const YAML::
   BallbarInstallation inst;
   const y::MapEntry* name = y::Find(*entries, "name");
   if (!name) return y::Error(src, node, what + ": missing 'name' (as in the ball-bar file's setup column)");
-  Result<std::string> s = y::String(src, name->value, what + ".name");
+  Result<std::string> s = y::CsvName(src, name->value, what, "the ball-bar file");
   TPCAL_RETURN_IF_ERROR(s);
-  if (s->empty()) return y::Error(src, name->value, what + ".name: expected a non-empty name");
-  if (!BbsNameFitsCsv(*s))
-    return y::Error(src, name->value,
-                    what + ".name '" + EchoInput(*s) +
-                        "': expected no comma, no leading '#' and no leading or trailing blank (the name is a field "
-                        "of the ball-bar file)");
   inst.name = *s;
   TPCAL_RETURN_IF_ERROR(BbsKindAndAxis(src, *entries, node, what, &inst));
-  Result<Eigen::Vector3d> w = BbsVector(src, *entries, node, "workpiece_ball_in_part_mm", what);
+  Result<Eigen::Vector3d> w = y::Vector3At(src, *entries, node, "workpiece_ball_in_part_mm", what);
   TPCAL_RETURN_IF_ERROR(w);
   inst.workpiece_ball_in_part_mm = *w;
-  Result<Eigen::Vector3d> t = BbsVector(src, *entries, node, "tool_ball_in_tool_mm", what);
+  Result<Eigen::Vector3d> t = y::Vector3At(src, *entries, node, "tool_ball_in_tool_mm", what);
   TPCAL_RETURN_IF_ERROR(t);
   inst.tool_ball_in_tool_mm = *t;
   Result<double> length = BbsNumber(src, *entries, node, "nominal_length_mm", what);
@@ -232,21 +192,19 @@ Result<BallbarSetup> LoadBallbarSetup(const std::string& path) {
 
 std::string FormatBallbarSetup(const BallbarSetup& setup) {
   std::string out = std::string("schema: ") + kBbsSchema + "\ninstallations:\n";
-  const auto vec = [](const Eigen::Vector3d& v) {
-    return "[" + BbsFmt(v.x()) + ", " + BbsFmt(v.y()) + ", " + BbsFmt(v.z()) + "]";
-  };
   for (const BallbarInstallation& i : setup.installations) {
     const bool circle = i.kind == BallbarKind::kCircle;
-    out += "  - name: " + BbsQuoted(i.name) + "\n";
+    out += "  - name: " + y::Quoted(i.name) + "\n";
     out += std::string("    kind: ") + BallbarKindName(i.kind) + "\n";
     out += std::string("    axis: ") + (circle ? BallbarPlaneName(i.plane) : std::string(1, AxisLetter(i.axis))) + "\n";
-    out += "    workpiece_ball_in_part_mm: " + vec(i.workpiece_ball_in_part_mm) + "\n";
-    out += "    tool_ball_in_tool_mm: " + vec(i.tool_ball_in_tool_mm) + "\n";
-    out += "    nominal_length_mm: " + BbsFmt(i.nominal_length_mm) + "\n";
+    out += "    workpiece_ball_in_part_mm: " + y::FormatVector3(i.workpiece_ball_in_part_mm) + "\n";
+    out += "    tool_ball_in_tool_mm: " + y::FormatVector3(i.tool_ball_in_tool_mm) + "\n";
+    out += "    nominal_length_mm: " + y::FormatDouble(i.nominal_length_mm) + "\n";
     if (!circle) out += "    sense: " + std::to_string(i.sense) + "\n";
     if (!i.hold_deg.empty()) {
       std::string list;
-      for (const auto& [a, v] : i.hold_deg) list += (list.empty() ? "" : ", ") + std::string(1, AxisLetter(a)) + ": " + BbsFmt(v);
+      for (const auto& [a, v] : i.hold_deg)
+        list += (list.empty() ? "" : ", ") + std::string(1, AxisLetter(a)) + ": " + y::FormatDouble(v);
       out += "    hold_deg: {" + list + "}\n";
     }
   }

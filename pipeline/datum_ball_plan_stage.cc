@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 
 #include "core/units.h"
 #include "gcode/nc_format.h"
@@ -82,24 +81,8 @@ Result<DatumBallPlanResult> RunDatumBallPlanStage(const DatumBallPlanRequest& r)
   out.centre_commands_mm = std::move(*centres);
   out.csv = FormatBallPositionPlan(out.plan, out.centre_commands_mm, out.machine);
   out.files.push_back({r.csv_path, out.csv});
-  if (!r.nc.output.empty()) {
-    GcodeRequest nc = r.nc;
-    auto dialect = PlanProgramDialect(nc);
-    if (!dialect.ok()) return dialect.status();
-    nc.dialect = *dialect;
-    auto options = GcodeOptionsFor(nc);
-    if (!options.ok()) return options.status().file() == "tpcal gcode" ? options.status().WithLocation("tpcal plan")
-                                                                        : options.status();
-    out.options = *options;
-    auto posted = gcode::PostDatumBallProgram(out.plan, *machine, r.probe, out.options);
-    if (!posted.ok()) return LocatePlanProgramError(posted.status(), out.options, nc.output);
-    out.files.push_back({nc.output, posted->program_text});
-    if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
-    out.posted = std::move(posted).value();
-  } else if (!r.nc.dialect.empty() || !r.nc.post_path.empty()) {
-    return PlanArgError(std::string(r.nc.dialect.empty() ? "--post" : "--dialect") + " needs --nc PROGRAM");
-  }
-  if (Status s = CheckWritableDirectories(out.files); !s.ok()) return s;
+  const auto post = [&](const gcode::GcodeOptions& o) { return gcode::PostDatumBallProgram(out.plan, *machine, r.probe, o); };
+  if (Status s = PostPlanProgram(r.nc, post, &out.options, &out.posted, &out.files); !s.ok()) return s;
   return out;
 }
 

@@ -45,6 +45,30 @@ Status LocatePostError(const GcodeRequest& args, const gcode::GcodeOptions& opti
   return Status(s.code(), message, post_key ? args.post_path : args.output);
 }
 
+// --dialect, or the dialect the program's extension names (.nc, .ngc, .mpf, .h).
+Result<std::string> PlanProgramDialect(const GcodeRequest& nc) {
+  if (!nc.dialect.empty()) return nc.dialect;
+  const std::string ext = std::filesystem::path(nc.output).extension().string();
+  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
+                           gcode::Dialect::kHeidenhain}) {
+    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
+  }
+  return Status(StatusCode::kInvalidArgument,
+                "--dialect: needed for --nc " + nc.output +
+                    " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)",
+                "tpcal plan");
+}
+
+// A program error without a file ("NAME.ngc: N40: rapid target outside ...") located at the
+// program's path, without the repeated program name, and "tpcal plan: nothing written" added.
+Status LocatePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
+  if (!s.file().empty()) return s;
+  std::string message = s.message();
+  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
+  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
+  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
+}
+
 }  // namespace
 
 Result<gcode::GcodeOptions> GcodeOptionsFor(const GcodeRequest& args) {
@@ -141,25 +165,28 @@ Result<GcodeStageResult> RunGcodeStage(const PieceRequest& piece, const GcodeReq
   return GcodeStageResult{std::move(*options), loaded->piece.machine.type, std::move(*posted), std::move(files)};
 }
 
-Result<std::string> PlanProgramDialect(const GcodeRequest& nc) {
-  if (!nc.dialect.empty()) return nc.dialect;
-  const std::string ext = std::filesystem::path(nc.output).extension().string();
-  for (gcode::Dialect d : {gcode::Dialect::kFanuc, gcode::Dialect::kLinuxCnc, gcode::Dialect::kSinumerik,
-                           gcode::Dialect::kHeidenhain}) {
-    if (ext == gcode::ProgramExtension(d)) return std::string(gcode::DialectName(d));
+Status PostPlanProgram(const GcodeRequest& request,
+                       const std::function<Result<PlanProgramText>(const gcode::GcodeOptions&)>& post,
+                       gcode::GcodeOptions* options, std::vector<GcodeFile>* files) {
+  if (!request.output.empty()) {
+    GcodeRequest nc = request;
+    auto dialect = PlanProgramDialect(nc);
+    if (!dialect.ok()) return dialect.status();
+    nc.dialect = *dialect;
+    auto effective = GcodeOptionsFor(nc);
+    if (!effective.ok())
+      return effective.status().file() == "tpcal gcode" ? effective.status().WithLocation("tpcal plan")
+                                                        : effective.status();
+    *options = *effective;
+    auto posted = post(*options);
+    if (!posted.ok()) return LocatePlanProgramError(posted.status(), *options, nc.output);
+    files->push_back({nc.output, posted->program});
+    if (!posted->tool_table.empty()) files->push_back({nc.output + ".tbl", posted->tool_table});
+  } else if (!request.dialect.empty() || !request.post_path.empty()) {
+    return Status(StatusCode::kInvalidArgument,
+                  std::string(request.dialect.empty() ? "--post" : "--dialect") + " needs --nc PROGRAM", "tpcal plan");
   }
-  return Status(StatusCode::kInvalidArgument,
-                "--dialect: needed for --nc " + nc.output +
-                    " (fanuc, linuxcnc, sinumerik or heidenhain; or name the program .nc, .ngc, .mpf or .h)",
-                "tpcal plan");
-}
-
-Status LocatePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path) {
-  if (!s.file().empty()) return s;
-  std::string message = s.message();
-  const std::string name = options.program_name + gcode::ProgramExtension(options.dialect) + ": ";
-  if (message.rfind(name, 0) == 0) message.erase(0, name.size());
-  return Status(s.code(), message + "\ntpcal plan: nothing written", path);
+  return CheckWritableDirectories(*files);
 }
 
 }  // namespace tpcal::pipeline

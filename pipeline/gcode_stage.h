@@ -5,6 +5,8 @@
 // (PROGRAM.testpiece.yaml, PROGRAM.post.yaml) that reproduces the program. Nothing is written here.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,12 +56,37 @@ std::string ProgramNameOf(const std::string& output);
 // directory that is missing or read-only.
 Result<GcodeStageResult> RunGcodeStage(const PieceRequest& piece, const GcodeRequest& request);
 
-// For the instruments' probing programs (`tpcal plan --instrument ... --nc PROGRAM`):
-// --dialect, or the dialect the program's extension names (.nc, .ngc, .mpf, .h). Errors:
-// kInvalidArgument at "tpcal plan" when neither names one.
-Result<std::string> PlanProgramDialect(const GcodeRequest& nc);
-// A program error without a file ("NAME.ngc: N40: rapid target outside ...") located at the
-// program's path, without the repeated program name, and "tpcal plan: nothing written" added.
-Status LocatePlanProgramError(const Status& s, const gcode::GcodeOptions& options, const std::string& path);
+// A probing program as an instrument's post writes it (gcode::PostDatumBallProgram, ...).
+struct PlanProgramText {
+  std::string program;
+  std::string tool_table;  // LinuxCNC only; "" otherwise
+};
+
+// The probing program of `tpcal plan --instrument ... --nc PROGRAM`. With nc.output set: the dialect
+// (--dialect, or the one the program's extension names: .nc, .ngc, .mpf, .h), the post options
+// (GcodeOptionsFor) into *options, then `post` with them; the program (nc.output) and its tool table
+// (nc.output + ".tbl", when not empty) are appended to *files. Last, every file's directory must be
+// writable (CheckWritableDirectories). Errors, in this order: kInvalidArgument at "tpcal plan" for
+// no dialect, or for --dialect / --post without --nc ("--dialect needs --nc PROGRAM"); the post
+// options' ("tpcal gcode" ones located at "tpcal plan"); a post error without a file located at
+// PROGRAM, without the repeated program name, with "tpcal plan: nothing written" added; the
+// directories'.
+Status PostPlanProgram(const GcodeRequest& nc,
+                       const std::function<Result<PlanProgramText>(const gcode::GcodeOptions&)>& post,
+                       gcode::GcodeOptions* options, std::vector<GcodeFile>* files);
+
+// The same with an instrument's post (`post(options)` gives a Result of gcode::PostedDatumBall,
+// gcode::PostedProbeArtifacts, ...: program_text, tool_table_text), its program kept in *posted.
+template <class Posted, class Post>
+Status PostPlanProgram(const GcodeRequest& nc, const Post& post, gcode::GcodeOptions* options,
+                       std::optional<Posted>* posted, std::vector<GcodeFile>* files) {
+  const auto text = [&](const gcode::GcodeOptions& o) -> Result<PlanProgramText> {
+    Result<Posted> p = post(o);
+    if (!p.ok()) return p.status();
+    *posted = std::move(p).value();
+    return PlanProgramText{(*posted)->program_text, (*posted)->tool_table_text};
+  };
+  return PostPlanProgram(nc, text, options, files);
+}
 
 }  // namespace tpcal::pipeline

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <filesystem>
 
 #include "core/units.h"
 #include "gcode/nc_format.h"
@@ -14,10 +13,6 @@ namespace tpcal::pipeline {
 namespace {
 
 // File-local names carry a ProbePlan prefix: a unity build merges this file with the other stages.
-
-Status ProbePlanArgError(const std::string& message) {
-  return Status(StatusCode::kInvalidArgument, message, "tpcal plan");
-}
 
 Result<kinematics::MachineModel> ProbePlanMachine(const std::string& path) {
   if (!path.empty()) return kinematics::LoadMachineModel(path);
@@ -84,24 +79,10 @@ Result<ProbeArtifactsPlanResult> RunProbeArtifactsPlanStage(const ProbeArtifacts
   out.csv = FormatProbePoints(out.points);
   for (const testpieces::SkippedTouch& s : out.plan.skipped) out.skipped_lines.push_back(SkippedTouchLine(out.plan, s));
   out.files.push_back({r.csv_path, out.csv});
-  if (!r.nc.output.empty()) {
-    GcodeRequest nc = r.nc;
-    auto dialect = PlanProgramDialect(nc);
-    if (!dialect.ok()) return dialect.status();
-    nc.dialect = *dialect;
-    auto options = GcodeOptionsFor(nc);
-    if (!options.ok()) return options.status().file() == "tpcal gcode" ? options.status().WithLocation("tpcal plan")
-                                                                        : options.status();
-    out.options = *options;
-    auto posted = gcode::PostProbeArtifactsProgram(out.plan, *machine, r.probe, out.options);
-    if (!posted.ok()) return LocatePlanProgramError(posted.status(), out.options, nc.output);
-    out.files.push_back({nc.output, posted->program_text});
-    if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
-    out.posted = std::move(posted).value();
-  } else if (!r.nc.dialect.empty() || !r.nc.post_path.empty()) {
-    return ProbePlanArgError(std::string(r.nc.dialect.empty() ? "--post" : "--dialect") + " needs --nc PROGRAM");
-  }
-  if (Status s = CheckWritableDirectories(out.files); !s.ok()) return s;
+  const auto post = [&](const gcode::GcodeOptions& o) {
+    return gcode::PostProbeArtifactsProgram(out.plan, *machine, r.probe, o);
+  };
+  if (Status s = PostPlanProgram(r.nc, post, &out.options, &out.posted, &out.files); !s.ok()) return s;
   return out;
 }
 

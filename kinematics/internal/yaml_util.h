@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -141,6 +142,59 @@ inline Result<Eigen::Vector3d> Vector3(const std::string& source, const YAML::No
   TPCAL_RETURN_IF_ERROR(v);
   if (v->size() != 3) return Error(source, n, what + ": expected [x, y, z]");
   return Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]);
+}
+
+// The vector under `key` of a map ([x, y, z], mm); a missing key is an error at `where`.
+inline Result<Eigen::Vector3d> Vector3At(const std::string& source, const std::vector<MapEntry>& entries,
+                                         const YAML::Node& where, const std::string& key, const std::string& what) {
+  const MapEntry* e = Find(entries, key);
+  if (!e) return Error(source, where, what + ": missing '" + key + "' ([x, y, z], mm)");
+  return Vector3(source, e->value, what + "." + key);
+}
+
+// A name (at `what`.name) that is also a field of an instrument's CSV file, which splits at
+// commas, trims blanks and skips lines starting with '#' (pipeline/io/internal/instrument_csv.h):
+// printable text (String), not empty, no comma, no leading '#', no leading or trailing blank.
+// `csv_file` names the file in the message ("the probed-point file").
+inline Result<std::string> CsvName(const std::string& source, const YAML::Node& n, const std::string& what,
+                                   const std::string& csv_file) {
+  Result<std::string> s = String(source, n, what + ".name");
+  TPCAL_RETURN_IF_ERROR(s);
+  if (s->empty()) return Error(source, n, what + ".name: expected a non-empty name");
+  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  if (s->find(',') != std::string::npos || s->front() == '#' || blank(s->front()) || blank(s->back()))
+    return Error(source, n,
+                 what + ".name '" + EchoInput(*s) +
+                     "': expected no comma, no leading '#' and no leading or trailing blank (the name is a field of " +
+                     csv_file + ")");
+  return s;
+}
+
+// Shortest text that reads back to the same double (at most 17 significant digits; ".nan" if it
+// cannot be written).
+inline std::string FormatDouble(double v) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  return ec == std::errc() ? std::string(buf, end) : std::string(".nan");
+}
+
+// "[x, y, z]" in FormatDouble's numbers (a YAML flow sequence).
+inline std::string FormatVector3(const Eigen::Vector3d& v) {
+  return "[" + FormatDouble(v.x()) + ", " + FormatDouble(v.y()) + ", " + FormatDouble(v.z()) + "]";
+}
+
+// A YAML double-quoted scalar of a Printable text: '"' and '\\' escaped, tab written as \t.
+inline std::string Quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\t') {
+      out += "\\t";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
 }
 
 // Parses text; a YAML syntax error becomes a kParseError at its line.
