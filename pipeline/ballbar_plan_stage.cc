@@ -126,27 +126,10 @@ Result<BallbarPlanResult> RunBallbarPlanStage(const BallbarPlanRequest& r) {
   out.readings = BallbarPlanReadings(out.tests);
   out.csv = FormatBallbarPlan(out.readings, out.machine);
   out.files.push_back({r.csv_path, out.csv});
-  // --nc: the plan stages' shared program block (dialect, post options, program, tool table).
-  if (!r.nc.output.empty()) {
-    GcodeRequest nc = r.nc;
-    auto dialect = PlanProgramDialect(nc);
-    if (!dialect.ok()) return dialect.status();
-    nc.dialect = *dialect;
-    auto options = GcodeOptionsFor(nc);
-    if (!options.ok()) return options.status().file() == "tpcal gcode" ? options.status().WithLocation("tpcal plan")
-                                                                        : options.status();
-    out.options = *options;
-    auto posted = gcode::PostBallbarProgram(out.tests, *machine, r.program, out.options);
-    if (!posted.ok()) return LocatePlanProgramError(posted.status(), out.options, nc.output);
-    out.files.push_back({nc.output, posted->program_text});
-    if (!posted->tool_table_text.empty()) out.files.push_back({nc.output + ".tbl", posted->tool_table_text});
-    out.posted = std::move(posted).value();
-  } else if (!r.nc.dialect.empty() || !r.nc.post_path.empty()) {
-    return BarPlanArgError(std::string(r.nc.dialect.empty() ? "--post" : "--dialect") + " needs --nc PROGRAM",
-                           "tpcal plan");
-  }
-  // end --nc
-  if (Status s = CheckWritableDirectories(out.files); !s.ok()) return s;
+  const auto post = [&](const gcode::GcodeOptions& o) {
+    return gcode::PostBallbarProgram(out.tests, *machine, r.program, o);
+  };
+  if (Status s = PostPlanProgram(r.nc, post, &out.options, &out.posted, &out.files); !s.ok()) return s;
   return out;
 }
 
