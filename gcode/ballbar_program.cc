@@ -306,14 +306,14 @@ Result<IrProgram> BuildBallbarIr(const std::vector<BallbarProgramTest>& tests, c
   return prog;
 }
 
-Result<PostedBallbar> PostBallbarProgram(const std::vector<BallbarProgramTest>& tests,
-                                         const kinematics::MachineModel& machine, const BallbarProgramOptions& bar,
-                                         const GcodeOptions& options) {
+Result<PostedInstrumentProgram> PostBallbarProgram(const std::vector<BallbarProgramTest>& tests,
+                                                   const kinematics::MachineModel& machine,
+                                                   const BallbarProgramOptions& bar, const GcodeOptions& options) {
   auto ir = BuildBallbarIr(tests, machine, bar, options);
   if (!ir.ok()) return ir.status();
   auto posted = internal::PostProbingIr(std::move(ir).value(), machine, options);
   if (!posted.ok()) return posted.status();
-  return internal::MovePostedProbing<PostedBallbar>(std::move(posted).value());
+  return posted;
 }
 
 }  // namespace tpcal::gcode

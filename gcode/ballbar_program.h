@@ -30,6 +30,7 @@
 #include "gcode/ir.h"
 #include "gcode/options.h"
 #include "gcode/post.h"
+#include "gcode/posted_instrument_program.h"
 #include "kinematics/ballbar.h"
 #include "kinematics/machine_model.h"
 
@@ -65,20 +66,11 @@ struct BallbarProgramTest {
 Result<IrProgram> BuildBallbarIr(const std::vector<BallbarProgramTest>& tests, const kinematics::MachineModel& machine,
                                  const BallbarProgramOptions& bar, const GcodeOptions& options);
 
-struct PostedBallbar {
-  std::string program_file;     // "<program_name><ext>"
-  std::string program_text;
-  std::string tool_table_file;  // LinuxCNC only (inches, gcode/tool_table.h)
-  std::string tool_table_text;
-  IrProgram ir;
-  PostedText posted;
-};
-
 // Builds the IR, posts it in options.dialect, checks every target (arcs every 5 deg) against the
 // machine's strokes (options.safety.check_strokes; the error names the block) and the dialect
 // whitelist (gcode/dialect_check.h). Errors: those of BuildBallbarIr, PostIr, the checks.
-Result<PostedBallbar> PostBallbarProgram(const std::vector<BallbarProgramTest>& tests,
-                                         const kinematics::MachineModel& machine, const BallbarProgramOptions& bar,
-                                         const GcodeOptions& options);
+Result<PostedInstrumentProgram> PostBallbarProgram(const std::vector<BallbarProgramTest>& tests,
+                                                   const kinematics::MachineModel& machine,
+                                                   const BallbarProgramOptions& bar, const GcodeOptions& options);
 
 }  // namespace tpcal::gcode

@@ -193,12 +193,7 @@ TEST(BallbarRs274, LinuxCncProgramRunsWithItsArcsAndPlanes) {
   const BarCase bc = SeedBarCase();
   auto p = PostBallbarProgram(bc.tests, bc.machine, {}, BarOptions(Dialect::kLinuxCnc));
   ASSERT_TRUE(p.ok()) << p.status().ToString();
-  PostedProgram prog;
-  prog.program_file = p->program_file;
-  prog.program_text = p->program_text;
-  prog.tool_table_file = p->tool_table_file;
-  prog.tool_table_text = p->tool_table_text;
-  const testing::Rs274Run run = testing::RunRs274(rs274, testing::OutputDir(), prog);
+  const testing::Rs274Run run = testing::RunRs274(rs274, testing::OutputDir(), *p);
   ASSERT_EQ(Rs274Errors(run.exit_status, run.out, run.err), "");
   EXPECT_EQ(BarCount(run.out, std::regex(R"(ARC_FEED\()")), 18) << run.out.substr(0, 2000);
   EXPECT_EQ(BarCount(run.out, std::regex(R"(SELECT_PLANE\(CANON_PLANE_XZ\))")), 1);

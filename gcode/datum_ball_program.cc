@@ -140,14 +140,14 @@ Result<IrProgram> BuildDatumBallIr(const testpieces::DatumBallPlan& plan, const 
   return prog;
 }
 
-Result<PostedDatumBall> PostDatumBallProgram(const testpieces::DatumBallPlan& plan,
-                                             const kinematics::MachineModel& machine,
-                                             const DatumBallProbeOptions& probe, const GcodeOptions& options) {
+Result<PostedInstrumentProgram> PostDatumBallProgram(const testpieces::DatumBallPlan& plan,
+                                                     const kinematics::MachineModel& machine,
+                                                     const DatumBallProbeOptions& probe, const GcodeOptions& options) {
   auto ir = BuildDatumBallIr(plan, machine, probe, options);
   if (!ir.ok()) return ir.status();
   auto posted = internal::PostProbingIr(std::move(ir).value(), machine, options);
   if (!posted.ok()) return posted.status();
-  return internal::MovePostedProbing<PostedDatumBall>(std::move(posted).value());
+  return posted;
 }
 
 }  // namespace tpcal::gcode

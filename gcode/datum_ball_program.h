@@ -21,6 +21,7 @@
 #include "gcode/ir.h"
 #include "gcode/options.h"
 #include "gcode/post.h"
+#include "gcode/posted_instrument_program.h"
 #include "kinematics/machine_model.h"
 #include "testpieces/datum_ball_plan.h"
 
@@ -47,20 +48,11 @@ struct DatumBallProbeOptions {
 Result<IrProgram> BuildDatumBallIr(const testpieces::DatumBallPlan& plan, const kinematics::MachineModel& machine,
                                    const DatumBallProbeOptions& probe, const GcodeOptions& options);
 
-struct PostedDatumBall {
-  std::string program_file;     // "<program_name><ext>"
-  std::string program_text;
-  std::string tool_table_file;  // LinuxCNC only (inches, gcode/tool_table.h)
-  std::string tool_table_text;
-  IrProgram ir;
-  PostedText posted;
-};
-
 // Builds the IR, posts it in options.dialect, checks every target against the machine's strokes
 // (options.safety.check_strokes; the error names the block) and the dialect whitelist
 // (gcode/dialect_check.h). Errors: those of BuildDatumBallIr, PostIr, the checks.
-Result<PostedDatumBall> PostDatumBallProgram(const testpieces::DatumBallPlan& plan,
-                                             const kinematics::MachineModel& machine,
-                                             const DatumBallProbeOptions& probe, const GcodeOptions& options);
+Result<PostedInstrumentProgram> PostDatumBallProgram(const testpieces::DatumBallPlan& plan,
+                                                     const kinematics::MachineModel& machine,
+                                                     const DatumBallProbeOptions& probe, const GcodeOptions& options);
 
 }  // namespace tpcal::gcode

@@ -162,15 +162,15 @@ Result<IrProgram> BuildProbeArtifactsIr(const testpieces::ProbeArtifactsPlan& pl
   return prog;
 }
 
-Result<PostedProbeArtifacts> PostProbeArtifactsProgram(const testpieces::ProbeArtifactsPlan& plan,
-                                                       const kinematics::MachineModel& machine,
-                                                       const ProbeArtifactsProbeOptions& probe,
-                                                       const GcodeOptions& options) {
+Result<PostedInstrumentProgram> PostProbeArtifactsProgram(const testpieces::ProbeArtifactsPlan& plan,
+                                                          const kinematics::MachineModel& machine,
+                                                          const ProbeArtifactsProbeOptions& probe,
+                                                          const GcodeOptions& options) {
   auto ir = BuildProbeArtifactsIr(plan, machine, probe, options);
   if (!ir.ok()) return ir.status();
   auto posted = internal::PostProbingIr(std::move(ir).value(), machine, options);
   if (!posted.ok()) return posted.status();
-  return internal::MovePostedProbing<PostedProbeArtifacts>(std::move(posted).value());
+  return posted;
 }
 
 }  // namespace tpcal::gcode

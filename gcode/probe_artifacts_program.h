@@ -31,6 +31,7 @@
 #include "gcode/ir.h"
 #include "gcode/options.h"
 #include "gcode/post.h"
+#include "gcode/posted_instrument_program.h"
 #include "kinematics/machine_model.h"
 #include "testpieces/probe_artifacts_plan.h"
 
@@ -59,22 +60,13 @@ Result<IrProgram> BuildProbeArtifactsIr(const testpieces::ProbeArtifactsPlan& pl
                                         const kinematics::MachineModel& machine,
                                         const ProbeArtifactsProbeOptions& probe, const GcodeOptions& options);
 
-struct PostedProbeArtifacts {
-  std::string program_file;     // "<program_name><ext>"
-  std::string program_text;
-  std::string tool_table_file;  // LinuxCNC only (inches, gcode/tool_table.h)
-  std::string tool_table_text;
-  IrProgram ir;
-  PostedText posted;
-};
-
 // Builds the IR, posts it in options.dialect, checks every target against the machine's strokes
 // (options.safety.check_strokes; the error names the block) and the dialect whitelist
 // (gcode/dialect_check.h). Errors: those of BuildProbeArtifactsIr, PostIr (Heidenhain: an oblique
 // touch numbered beyond 23 within its pose), the checks.
-Result<PostedProbeArtifacts> PostProbeArtifactsProgram(const testpieces::ProbeArtifactsPlan& plan,
-                                                       const kinematics::MachineModel& machine,
-                                                       const ProbeArtifactsProbeOptions& probe,
-                                                       const GcodeOptions& options);
+Result<PostedInstrumentProgram> PostProbeArtifactsProgram(const testpieces::ProbeArtifactsPlan& plan,
+                                                          const kinematics::MachineModel& machine,
+                                                          const ProbeArtifactsProbeOptions& probe,
+                                                          const GcodeOptions& options);
 
 }  // namespace tpcal::gcode

@@ -260,12 +260,7 @@ TEST(ProbeArtifactsRs274, ProbeMovesRunOnTheirContactLinesAndRapidsClearTheBoxes
   const GcodeOptions o = ArtifactOptions(Dialect::kLinuxCnc);
   auto p = PostProbeArtifactsProgram(ac.plan, ac.machine, probe, o);
   ASSERT_TRUE(p.ok()) << p.status().ToString();
-  PostedProgram prog;
-  prog.program_file = p->program_file;
-  prog.program_text = p->program_text;
-  prog.tool_table_file = p->tool_table_file;
-  prog.tool_table_text = p->tool_table_text;
-  const testing::Rs274Run run = testing::RunRs274(rs274, testing::OutputDir(), prog);
+  const testing::Rs274Run run = testing::RunRs274(rs274, testing::OutputDir(), *p);
   ASSERT_EQ(Rs274Errors(run.exit_status, run.out, run.err), "");
   auto listing = ParseRs274Listing(run.out);
   ASSERT_TRUE(listing.ok()) << listing.status().ToString();

@@ -135,9 +135,9 @@ IrTool ProbeTool(int number, double stylus_diameter_mm, double length_mm, const 
   return tool;
 }
 
-Result<PostedProbing> PostProbingIr(IrProgram ir, const kinematics::MachineModel& machine,
-                                    const GcodeOptions& options) {
-  PostedProbing out;
+Result<PostedInstrumentProgram> PostProbingIr(IrProgram ir, const kinematics::MachineModel& machine,
+                                              const GcodeOptions& options) {
+  PostedInstrumentProgram out;
   out.ir = std::move(ir);
   auto posted = PostIr(out.ir, options);
   if (!posted.ok()) return posted.status();

@@ -62,7 +62,7 @@ struct BallbarPlanResult {
   std::vector<gcode::BallbarProgramTest> tests;
   BallbarFile readings;                       // the plan's rows (dl_um 0)
   std::string csv;                            // FormatBallbarPlan
-  std::optional<gcode::PostedBallbar> posted;  // when nc.output is set
+  std::optional<gcode::PostedInstrumentProgram> posted;  // when nc.output is set
   gcode::GcodeOptions options;                // the post options used (when posted)
   std::vector<GcodeFile> files;               // the plan, then the program and its tool table
 };

@@ -36,7 +36,7 @@ struct DatumBallPlanResult {
   std::string machine;                          // the machine's name (or type)
   std::vector<Eigen::Vector3d> centre_commands_mm;  // nominal centring commands, per position
   std::string csv;                              // the ballpos plan's text
-  std::optional<gcode::PostedDatumBall> posted;  // when nc.output is set
+  std::optional<gcode::PostedInstrumentProgram> posted;  // when nc.output is set
   gcode::GcodeOptions options;                  // the post options used (when posted)
   std::vector<GcodeFile> files;                 // the plan, then the program and its tool table
 };

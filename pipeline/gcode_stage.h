@@ -75,8 +75,8 @@ Status PostPlanProgram(const GcodeRequest& nc,
                        const std::function<Result<PlanProgramText>(const gcode::GcodeOptions&)>& post,
                        gcode::GcodeOptions* options, std::vector<GcodeFile>* files);
 
-// The same with an instrument's post (`post(options)` gives a Result of gcode::PostedDatumBall,
-// gcode::PostedProbeArtifacts, ...: program_text, tool_table_text), its program kept in *posted.
+// The same with an instrument's post (`post(options)` gives a Result of
+// gcode::PostedInstrumentProgram), its program kept in *posted.
 template <class Posted, class Post>
 Status PostPlanProgram(const GcodeRequest& nc, const Post& post, gcode::GcodeOptions* options,
                        std::optional<Posted>* posted, std::vector<GcodeFile>* files) {

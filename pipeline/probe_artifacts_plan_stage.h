@@ -38,7 +38,7 @@ struct ProbeArtifactsPlanResult {
   ProbePointFile points;     // the plan's rows (is_plan), one per planned touch
   std::string csv;           // FormatProbePoints(points)
   std::vector<std::string> skipped_lines;  // SkippedTouchLine of every skipped touch, in plan order
-  std::optional<gcode::PostedProbeArtifacts> posted;  // when nc.output is set
+  std::optional<gcode::PostedInstrumentProgram> posted;  // when nc.output is set
   gcode::GcodeOptions options;                        // the post options used (when posted)
   std::vector<GcodeFile> files;                       // the plan, then the program and its tool table
 };

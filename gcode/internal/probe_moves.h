@@ -15,6 +15,7 @@
 #include "gcode/ir.h"
 #include "gcode/options.h"
 #include "gcode/post.h"
+#include "gcode/posted_instrument_program.h"
 #include "kinematics/machine_model.h"
 
 namespace tpcal::gcode::internal {
@@ -71,33 +72,11 @@ void SetProbingMachine(IrProgram* prog, const kinematics::MachineModel& machine)
 // posted as T`number` with gauge length `length_mm` (0: options.default_tool_length_mm).
 IrTool ProbeTool(int number, double stylus_diameter_mm, double length_mm, const GcodeOptions& options);
 
-struct PostedProbing {
-  std::string program_file;     // "<program_name><ext>"
-  std::string program_text;
-  std::string tool_table_file;  // LinuxCNC only (inches, gcode/tool_table.h)
-  std::string tool_table_text;
-  IrProgram ir;
-  PostedText posted;
-};
-
 // Posts `ir` in options.dialect, checks every rapid / index / probe / linear / arc target (arcs
 // also every 5 deg along the way) against the machine's strokes (options.safety.check_strokes; the error names the block and the program file) and the
 // dialect whitelist (gcode/dialect_check.h); LinuxCNC: the tool table. Errors: those of PostIr,
 // the checks.
-Result<PostedProbing> PostProbingIr(IrProgram ir, const kinematics::MachineModel& machine,
-                                    const GcodeOptions& options);
-
-// The same fields moved into a program's public result type (PostedDatumBall, ...).
-template <class Posted>
-Posted MovePostedProbing(PostedProbing&& p) {
-  Posted out;
-  out.program_file = std::move(p.program_file);
-  out.program_text = std::move(p.program_text);
-  out.tool_table_file = std::move(p.tool_table_file);
-  out.tool_table_text = std::move(p.tool_table_text);
-  out.ir = std::move(p.ir);
-  out.posted = std::move(p.posted);
-  return out;
-}
+Result<PostedInstrumentProgram> PostProbingIr(IrProgram ir, const kinematics::MachineModel& machine,
+                                              const GcodeOptions& options);
 
 }  // namespace tpcal::gcode::internal

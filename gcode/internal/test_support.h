@@ -132,7 +132,8 @@ struct Rs274Run {
 // Writes PROGRAM.ngc and PROGRAM.tbl into a directory of the running test under `parent`
 // (TestDir) and runs `rs274 -g PROGRAM.ngc -t PROGRAM.tbl` there (default -n: stop at the first
 // error), with HOME set to that directory (see below).
-inline Rs274Run RunRs274(const std::string& rs274, const std::filesystem::path& parent, const PostedProgram& p) {
+template <class Posted>  // PostedProgram or PostedInstrumentProgram: program_file / _text, tool_table_file / _text
+Rs274Run RunRs274(const std::string& rs274, const std::filesystem::path& parent, const Posted& p) {
   const std::filesystem::path dir = TestDir(parent);
   WriteFile(dir / p.program_file, p.program_text);
   WriteFile(dir / p.tool_table_file, p.tool_table_text);
