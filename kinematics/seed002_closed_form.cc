@@ -94,6 +94,27 @@ Seed002Items PredictSeed002Items(const std::map<std::string, double>& parameters
   return out;
 }
 
+namespace {
+
+// A combination c of the parameters `names` (coefficients over them; c over all parameters) with
+// its value c.x and, when the items carry u, its u sqrt(c^T cov c).
+Combination Seed002Combination(const std::vector<std::string>& names, const std::vector<double>& coeffs,
+                               const Eigen::VectorXd& c, const Eigen::VectorXd& x, const Eigen::MatrixXd& cov,
+                               bool have_u) {
+  Combination out;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (std::abs(coeffs[k]) < 1e-6) continue;  // as FormatCombination leaves them out
+    out.names.push_back(names[k]);
+    out.coefficients.push_back(coeffs[k]);
+  }
+  out.text = internal::FormatCombination(names, coeffs);
+  out.value = c.dot(x);
+  out.u = have_u ? std::sqrt(std::max(0.0, c.dot(cov * c))) : 0.0;
+  return out;
+}
+
+}  // namespace
+
 Result<ClosedFormResult> SolveSeed002(const Seed002Items& items, const Seed002Geometry& g,
                                       Seed002Equations equations, const Seed002Items& item_u) {
   const auto rows = Rows(g, equations);
@@ -175,6 +196,7 @@ Result<ClosedFormResult> SolveSeed002(const Seed002Items& items, const Seed002Ge
       char buf[64];
       std::snprintf(buf, sizeof buf, " = %.4g", c.dot(x));
       out.estimable.push_back(internal::FormatCombination(snames, coeffs) + buf);
+      out.combinations.push_back(Seed002Combination(snames, coeffs, c, x, cov, have_u));
     }
   }
   return out;

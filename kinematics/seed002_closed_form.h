@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/status.h"
+#include "kinematics/identification.h"
 
 namespace tpcal::kinematics {
 
@@ -65,6 +66,7 @@ struct ClosedFormResult {
   std::vector<std::string> items_used;
   std::vector<double> item_residuals;  // item minus its prediction, same order
   std::vector<std::string> estimable;  // combinations of non-identifiable parameters, with values
+  std::vector<Combination> combinations;  // the same, structured (u propagated when item_u is given)
   // The sensitivity matrix: row per item used, column per parameter (um or urad per um or urad).
   std::vector<std::vector<double>> matrix;
 };

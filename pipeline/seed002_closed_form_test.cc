@@ -4,16 +4,19 @@
 // evaluating its inspection plan; then a random error set goes the whole way round. Finally the
 // paper's own numbers (Table 1 measured) go through both equation sets, as a documented
 // regression (kinematics/SEED002_SIGNS.md, "Table 1 through solver (a)").
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 #include "gdt/inspection.h"
 #include "kinematics/error_parameters.h"
 #include "kinematics/seed002_closed_form.h"
 #include "pipeline/identify_report.h"
+#include "pipeline/seed002_comparison.h"
 #include "pipeline/seed002_items.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
@@ -200,6 +203,80 @@ TEST(Seed002ClosedForm, PaperTable1ThroughPrintedEquations) {
   ASSERT_TRUE(solved.ok());
   ASSERT_EQ(solved->estimable.size(), 1u);
   EXPECT_NE(solved->estimable[0].find("dy_AR(-90) + dz_AR(-90) = -23"), std::string::npos) << solved->estimable[0];
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
+
+namespace tpcal::pipeline {
+namespace {
+
+// Seed 002 Table 2, column "probing test" (samples/errors/seed002_table2_probing.yaml; the
+// squareness beta_ZX, alpha_ZY was not estimated there).
+std::vector<kinematics::ParameterEstimate> PaperTable2Probing(double u_um, double u_urad) {
+  const std::vector<std::pair<std::string, double>> column = {
+      {"dx_CR(0)", -5.8},   {"dy_CR(0)", -26.1},  {"alpha_CR(0)", -0.1},   {"beta_CR(0)", 5.2},
+      {"dy_AR(-90)", 46.5}, {"dz_AR(-90)", 18.7}, {"dy_CA(-90)", -31.6},   {"alpha_CR(-90)", 47.1},
+      {"gamma_CR(-90)", 2.4}};
+  std::vector<kinematics::ParameterEstimate> out;
+  for (const auto& [name, value] : column) {
+    kinematics::ParameterEstimate e;
+    const bool angle = name.find("_CR(") != std::string::npos && name[0] != 'd';
+    e.name = name, e.unit = angle ? "urad" : "um", e.identifiable = true, e.value = value;
+    e.u = angle ? u_urad : u_um;
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+void PrintSeed002Comparison(const char* title, const Seed002ColumnsComparison& c) {
+  std::printf("\n%s: %d rows compared, %d disagree (p < %.2g)\n", title, c.agreement.compared,
+              c.agreement.disagreeing, c.agreement.p_threshold);
+  std::printf("%-44s %-4s %16s %16s %9s %7s  %s\n", "parameter", "unit", "probing", "Table 1", "diff", "z", "note");
+  for (const AgreementRow& r : c.agreement.rows) {
+    std::string probing = r.instrument_known ? fmt::format("{:.2f} +- {:.2f}", r.instrument_value, r.instrument_u) : "-";
+    std::string piece = r.piece_known ? fmt::format("{:.2f} +- {:.2f}", r.piece_value, r.piece_u) : "n/i";
+    std::string diff = r.instrument_known && r.piece_known ? fmt::format("{:.2f}", r.piece_value - r.instrument_value) : "";
+    std::printf("%-44s %-4s %16s %16s %9s %7s  %s%s\n", r.name.c_str(), r.unit.c_str(), probing.c_str(), piece.c_str(),
+                diff.c_str(), r.compared ? fmt::format("{:+.1f}", r.z).c_str() : "", r.agree ? "" : "DISAGREE ",
+                r.note.c_str());
+  }
+}
+
+// Seed 002 section 4.4: Table 2's probing column against the machining test, identified by tpcal
+// from Table 1 (kinematics equations). Truth: the arithmetic of the printed numbers (tolerance
+// 0.01 um / urad, two printed decimals). As printed neither column carries u: the table holds
+// differences only and compares nothing. With u ASSUMED (items 1 um / 5 urad, probing 1 um /
+// 5 urad, k = 1, a CMM and a touch probe of that class), the rows Table 1 determines are compared.
+TEST(Seed002Comparison, ProbingColumnAgainstTable1) {
+  kinematics::Seed002Geometry g;
+  const auto as_printed = CompareSeed002Columns(PaperTable1(), {}, g, PaperTable2Probing(0.0, 0.0), 0.01);
+  ASSERT_TRUE(as_printed.ok()) << as_printed.status().ToString();
+  PrintSeed002Comparison("as printed (no u)", *as_printed);
+  EXPECT_EQ(as_printed->agreement.compared, 0);
+  EXPECT_EQ(as_printed->agreement.disagreeing, 0);
+  kinematics::Seed002Items item_u;
+  for (const auto& [key, value] : PaperTable1()) item_u[key] = key.find("_urad") != std::string::npos ? 5.0 : 1.0;
+  const auto assumed = CompareSeed002Columns(PaperTable1(), item_u, g, PaperTable2Probing(1.0, 5.0), 0.01);
+  ASSERT_TRUE(assumed.ok()) << assumed.status().ToString();
+  PrintSeed002Comparison("u assumed (items 1 um / 5 urad, probing 1 um / 5 urad)", *assumed);
+  EXPECT_EQ(assumed->piece.rank, 8);
+  // Table 1 determines four parameters and four combinations; the probing test has no
+  // squareness, so two combinations cannot be compared: six rows are.
+  EXPECT_EQ(assumed->agreement.compared, 6);
+  std::set<std::string> disagreeing;
+  for (const AgreementRow& r : assumed->agreement.rows)
+    if (!r.agree) disagreeing.insert(r.name);
+  EXPECT_EQ(disagreeing, (std::set<std::string>{"alpha_CR(-90)", "-dy_AR(-90) + dy_CA(-90)", "dz_AR(-90) + dy_CA(-90)"}));
+  for (const AgreementRow& r : assumed->agreement.rows) {
+    if (r.name == "alpha_CR(-90)") {
+      EXPECT_NEAR(r.piece_value, -9.17, 0.01);  // item #7 alone: the weights do not move it
+    }
+    if (r.name == "dz_AR(-90) + dy_CA(-90)") {
+      EXPECT_NEAR(r.piece_value, 11.01, 0.01);
+      EXPECT_NEAR(r.instrument_value, 18.7 - 31.6, 0.01);
+    }
+  }
 }
 
 }  // namespace

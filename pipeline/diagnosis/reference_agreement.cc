@@ -52,11 +52,13 @@ AgreementRow CombinationRow(const kinematics::Combination& c, const std::map<std
   return row;
 }
 
+// Without u on either side a difference has no scale: the row is not compared (noted).
 void Score(AgreementRow* row) {
-  row->compared = row->instrument_known && row->piece_known;
-  if (!row->compared) return;
   const double u = std::hypot(row->instrument_u, row->piece_u);
-  row->z = u > 0.0 ? (row->piece_value - row->instrument_value) / u : 0.0;
+  row->compared = row->instrument_known && row->piece_known && u > 0.0;
+  if (row->instrument_known && row->piece_known && !(u > 0.0)) row->note = "no u on either side";
+  if (!row->compared) return;
+  row->z = (row->piece_value - row->instrument_value) / u;
   row->p_value = std::erfc(std::abs(row->z) / std::sqrt(2.0));
 }
 

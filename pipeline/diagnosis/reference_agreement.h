@@ -21,7 +21,7 @@ struct AgreementRow {
   bool instrument_known = false, piece_known = false;
   double instrument_value = 0.0, instrument_u = 0.0;  // display units, k = 1
   double piece_value = 0.0, piece_u = 0.0;
-  bool compared = false;         // both known
+  bool compared = false;         // both known, and a u on at least one side
   double z = 0.0;                // (piece - instrument) / combined u; 0 unless compared
   double p_value = 1.0;          // two-sided; 1 unless compared
   bool agree = true;             // not compared counts as agreeing
