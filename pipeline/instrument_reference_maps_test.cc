@@ -105,6 +105,23 @@ TEST(InstrumentReferenceMaps, BadReferencesAreNamed) {
   EXPECT_NE(ball_setup.status().ToString().find("s.yaml: --reference-setup is for probe_artifacts"), std::string::npos);
 }
 
+// The caller's identification (tpcal run's) is the comparison's when its parameters are the ones
+// needed (for maps: any): the same diagnosis to the last bit as the piece identified inside.
+TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  const PointSet piece = MapsPiece(kMapsCold, 23);
+  auto ref = IdentifyInstrumentReference(
+      setup, {.path = WriteProbepts(0.05, 33), .instrument = "probe_artifacts", .setup_path = "", .machine_path = ""});
+  ASSERT_TRUE(ref.ok()) << ref.status().ToString();
+  auto identified = RunIdentifyStage(setup.piece, setup.machine, piece, {});
+  ASSERT_TRUE(identified.ok()) << identified.status().ToString();
+  auto inside = DiagnoseAgainstInstrument(setup, piece, *ref, {});
+  auto reused = DiagnoseAgainstInstrument(setup, piece, *ref, {}, &*identified);
+  ASSERT_TRUE(inside.ok() && reused.ok());
+  EXPECT_EQ(inside->rms_um, reused->rms_um);
+  EXPECT_EQ(inside->verdict.family, reused->verdict.family);
+}
+
 // A disagreeing row names its parameters exactly: E_X0C is not a member of a row about
 // "E_X0C.drift_K" (whose name contains it), and every member of a disagreeing combination is.
 TEST(InstrumentReferenceMaps, DisagreeingMatchesMembersNotSubstrings) {
