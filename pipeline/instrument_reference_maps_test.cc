@@ -16,9 +16,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <tuple>
+#include <vector>
 
+#include "kinematics/ballbar_setup.h"
 #include "kinematics/errors_yaml.h"
+#include "kinematics/machine_yaml.h"
 #include "kinematics/probe_artifacts.h"
+#include "pipeline/ballbar_simulate_stage.h"
 #include "pipeline/instrument_reference.h"
 #include "pipeline/probe_artifacts_simulate_stage.h"
 #include "pipeline/report/diagnosis_json.h"
@@ -120,6 +125,46 @@ TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
   ASSERT_TRUE(inside.ok() && reused.ok());
   EXPECT_EQ(inside->rms_um, reused->rms_um);
   EXPECT_EQ(inside->verdict.family, reused->verdict.family);
+}
+
+// The ball bar on the piece's A/C table: seed 003's seven C-table installations holding A at 0
+// (its L1 = 100 mm, L2 = 150 mm, H1 = 50 mm, H3 = 100 mm, 150 mm bar), 0.1 um readings of the
+// cold machine of kMapsCold. The ball bar cannot separate the mean and first harmonic of the C
+// motions (set-up terms: length offset, centring), i.e. the location errors of C, and sees
+// nothing of A: its maps leave them out, the note names those families, and the cold piece's
+// verdict is location_errors (the reference lacks them), not none.
+TEST(InstrumentReferenceMaps, BallbarOnTheAcTableLacksTheLocationErrors) {
+  const std::filesystem::path dir = MapsTestDir();
+  std::string setup_yaml = "schema: tpcal.ballbar_setup/1\ninstallations:\n";
+  for (const auto& [name, kind, x, z] : std::vector<std::tuple<std::string, std::string, int, int>>{
+           {"C_radial_L1H1", "radial", 100, 50}, {"C_tangential_L1H1", "tangential", 100, 50},
+           {"C_axial_H1", "axial", 0, 50}, {"C_radial_L2H1", "radial", 150, 50},
+           {"C_tangential_L2H1", "tangential", 150, 50}, {"C_radial_L1H3", "radial", 100, 100},
+           {"C_tangential_L1H3", "tangential", 100, 100}})
+    setup_yaml += fmt::format("  - {{name: {}, kind: {}, axis: C, workpiece_ball_in_part_mm: [{}, 0, {}], "
+                              "tool_ball_in_tool_mm: [0, 0, 0], nominal_length_mm: 150, sense: 1, hold_deg: {{A: 0}}}}\n",
+                              name, kind, x, z);
+  std::ofstream(dir / "ac_setup.yaml") << setup_yaml;
+  std::ofstream(dir / "ac_table.yaml") << kinematics::FormatMachineModel(test_support::AcTable());
+  auto setup = kinematics::LoadBallbarSetup((dir / "ac_setup.yaml").string());
+  ASSERT_TRUE(setup.ok()) << setup.status().ToString();
+  BallbarSimRequest request;
+  request.noise_um = 0.1, request.seed = 3;
+  auto sim = SimulateBallbar(test_support::AcTable(), MapsErrors(kMapsCold), *setup, request);
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  std::ofstream(dir / "bb.csv") << sim->csv;
+  const LoadedPiece loaded{test_support::AcTable(), test_support::Turning()};
+  auto d = DiagnoseAgainstInstrument(loaded, MapsPiece(kMapsCold, 24),
+                                     {.path = (dir / "bb.csv").string(),
+                                      .instrument = "ballbar",
+                                      .setup_path = (dir / "ac_setup.yaml").string(),
+                                      .machine_path = (dir / "ac_table.yaml").string()},
+                                     {});
+  ASSERT_TRUE(d.ok()) << d.status().ToString();
+  EXPECT_EQ(d->reference_agreement->instrument, "ballbar");
+  EXPECT_NE(d->reference_agreement->reference_note.find("no component along what its installations cannot separate"),
+            std::string::npos) << d->reference_agreement->reference_note;
+  EXPECT_EQ(d->verdict.family, "location_errors") << DiagnosisText(*d);
 }
 
 // A disagreeing row names its parameters exactly: E_X0C is not a member of a row about
