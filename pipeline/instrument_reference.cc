@@ -226,10 +226,17 @@ std::string MapsNote(const InstrumentReference& ref) {
   return note + ") as measured; no parameter in common with the piece's model: compared by simulation only";
 }
 
+// The piece's own outlier screen flags what its model lacks and the maps may hold (an error
+// motion): the piece is identified with every point and the diagnosis screens against the maps.
+// The caller's identification serves when its screen flagged nothing.
 Result<DiagnosisResult> IrAgainstMaps(const LoadedPiece& setup, const PointSet& measured, const InstrumentReference& ref,
                                       const DiagnosisOptions& options, const IdentifyStageResult* identified) {
-  auto piece = IrPiece(setup, measured, {}, ref.source, options, identified);
+  const bool unscreened = identified != nullptr && identified->outliers.empty() && identified->local_defects.empty();
+  DiagnosisOptions keep_all = options;
+  keep_all.screen_outliers = false;
+  auto piece = IrPiece(setup, measured, {}, ref.source, keep_all, unscreened ? identified : nullptr);
   if (!piece.ok()) return piece.status();
+  piece->outliers.clear(), piece->local_defects.clear();
   auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, IrDiagnosisOptions(options, ref, *ref.maps));
   if (!d.ok()) return d.status();
   ReferenceAgreement agreement;

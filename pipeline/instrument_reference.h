@@ -11,8 +11,10 @@
 //    "sim" is the instrument's tpcal.errors/1 (what `identify --errors-out` writes: the maps,
 //    entries the instrument cannot determine at 0) on the piece's machine, as measured: their
 //    noise is not weighed (the piece's lever arms amplify it; an update within the maps' u, as
-//    for the datum ball, absorbed a withheld drift into the hundreds of node values), so the
-//    instrument must be tight; the piece keeps its own identification. No parameter is compared (the table says so and names what the instrument
+//    for the datum ball, would absorb a withheld drift into the hundreds of node values: README),
+//    so the instrument must be tight. The piece is identified with its own parameters and every point
+//    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
+//    against the maps. No parameter is compared (the table says so and names what the instrument
 //    left undetermined): the two meet through the simulated piece only.
 // Nothing is written here.
 #pragma once
@@ -72,7 +74,7 @@ Result<InstrumentReference> IdentifyInstrumentReference(const LoadedPiece& setup
 // `options` carry noise, alpha and the screen (reference and base set are set here); `measured`
 // is the piece's point file. `identified`: the piece already identified by the caller (tpcal run)
 // with the same options; used when its parameters are the ones the comparison needs (the
-// instrument's; for maps, any). The result holds reference_agreement. Errors: the piece
+// instrument's; for maps, any, when its screen flagged nothing). The result holds reference_agreement. Errors: the piece
 // identification's, the diagnosis's.
 Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
                                                   const InstrumentReference& reference,

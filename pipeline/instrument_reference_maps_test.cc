@@ -1,15 +1,16 @@
 // A turning piece diagnosed against an instrument that identifies error maps (issue 22): the
 // probing test of artifacts (seed 000) of the same A/C table. Truth: the cold table's ISO 230-1
-// location errors of A and C, 4 to 20 um / urad (kMapsCold; what the maps must reproduce as
-// error motions over A and C); the probing test of it (seed 000's columns, A at 0, -30, -60,
-// -90 deg, C every 15 deg) with touch noise sigma 0.05 um (tight) or 0.3 um; the piece cut by the
-// same machine cold, or with a table-motor drift of E_X0C (8 um, tau 20 min) withheld from the
-// instrument, measured with 0.5 um noise at a random placement. Fixed seeds. Expected: the maps
-// are the "sim" (no parameter in common, said so). Cold piece, tight instrument: verdict none
-// (measured on a noise-free piece: the maps reproduce it to 0.042 um RMS, their linear
-// interpolation between 15 deg nodes; 0.05 um touches make it 0.12 um, below the piece's 0.5 um).
-// The drift is named against the 0.3 um instrument too (its map noise alone makes 0.59 um RMS,
-// measured, against the drift's 3.5 um).
+// location errors of A and C, 4 to 20 um / urad (kMapsLocation), with an axial error motion of C
+// (E_ZC, 2nd harmonic, 2 um) and an A tilt table (E_AA, 0 to 35 urad over A) the piece's own model
+// lacks (kMapsMotions); the probing test of it (seed 000's columns, A at 0, -30, -60, -90 deg, C
+// every 15 deg) with touch noise sigma 0.05 um (tight) or 0.3 um; the piece cut by the same machine
+// cold, or with a table-motor drift of E_X0C (8 um, tau 20 min) withheld from the instrument,
+// measured with 0.5 um noise at a random placement. Fixed seeds. Expected: the maps are the "sim"
+// (no parameter in common, said so). Cold piece, tight instrument: verdict none (measured on a
+// noise-free piece: the maps reproduce it to 0.04 um RMS, their linear interpolation between 15
+// deg nodes; 0.05 um touches make it 0.12 um, below the piece's 0.5 um). The drift is named
+// against the 0.3 um instrument too (its map noise alone makes 0.59 um RMS, measured, against the
+// drift's 3.5 um).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -33,10 +34,15 @@
 namespace tpcal::pipeline {
 namespace {
 
-const char* const kMapsCold =
+const char* const kMapsLocation =
     "schema: tpcal.errors/1\nmachine: ac_table\nE_Y0A_um: 15\nE_Z0A_um: -8\nE_B0A_urad: 6\nE_C0A_urad: -4\n"
     "E_X0C_um: 10\nE_Y(0A)C_um: -6\nE_B0C_urad: -20\n";
-const char* const kMapsDrift = "effects:\n  - thermal_drift: {parameter: E_X0C, K_um: 8, tau_s: 1200}\n";
+const char* const kMapsMotions =
+    "effects:\n  - rotary_error_motion: {symbol: E_ZC, harmonics: [{order: 2, cos_um: 2, sin_um: 0}]}\n"
+    "  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, -60, -30, 0], values_urad: [35, 22, 10, 0],"
+    " interpolation: linear}\n";
+const char* const kMapsDrift = "  - thermal_drift: {parameter: E_X0C, K_um: 8, tau_s: 1200}\n";
+const std::string kMapsCold = std::string(kMapsLocation) + kMapsMotions;
 
 std::filesystem::path MapsTestDir() {
   auto dir = std::filesystem::temp_directory_path() / ("tpcal_instrument_maps_" + std::to_string(::getpid()));
@@ -50,12 +56,12 @@ kinematics::ErrorState MapsErrors(const std::string& yaml) {
   return *e;
 }
 
-// The probed-point file of the cold machine (tpcal probepts v1), noise_um per touch.
-std::string WriteProbepts(double noise_um, std::uint64_t seed) {
+// The probed-point file of the machine `errors_yaml` (tpcal probepts v1), noise_um per touch.
+std::string WriteProbepts(double noise_um, std::uint64_t seed, const std::string& errors_yaml = kMapsCold) {
   ProbeArtifactsSimRequest request;
   request.plan.c_step_deg = 15.0;
   request.noise_um = noise_um, request.seed = seed;
-  auto sim = SimulateProbeArtifacts(test_support::AcTable(), MapsErrors(kMapsCold), kinematics::Seed000Artifacts(), request);
+  auto sim = SimulateProbeArtifacts(test_support::AcTable(), MapsErrors(errors_yaml), kinematics::Seed000Artifacts(), request);
   EXPECT_TRUE(sim.ok()) << sim.status().ToString();
   const auto path = MapsTestDir() / fmt::format("probepts_{}_{}.csv", noise_um, seed);
   std::ofstream(path) << sim->csv;
@@ -90,7 +96,7 @@ TEST(InstrumentReferenceMaps, ColdPieceAgainstTheProbingTestOfArtifactsIsNone) {
 }
 
 TEST(InstrumentReferenceMaps, DriftWithheldFromTheProbingTestIsNamed) {
-  auto d = AgainstProbe(MapsPiece(std::string(kMapsCold) + kMapsDrift, 22), WriteProbepts(0.3, 32));
+  auto d = AgainstProbe(MapsPiece(kMapsCold + kMapsDrift, 22), WriteProbepts(0.3, 32));
   ASSERT_TRUE(d.ok()) << d.status().ToString();
   EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
 }
@@ -114,12 +120,13 @@ TEST(InstrumentReferenceMaps, BadReferencesAreNamed) {
 // needed (for maps: any): the same diagnosis to the last bit as the piece identified inside.
 TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
-  const PointSet piece = MapsPiece(kMapsCold, 23);
+  const PointSet piece = MapsPiece(kMapsLocation, 23);
   auto ref = IdentifyInstrumentReference(
-      setup, {.path = WriteProbepts(0.05, 33), .instrument = "probe_artifacts", .setup_path = "", .machine_path = ""});
+      setup, {.path = WriteProbepts(0.05, 33, kMapsLocation), .instrument = "probe_artifacts", .setup_path = "", .machine_path = ""});
   ASSERT_TRUE(ref.ok()) << ref.status().ToString();
   auto identified = RunIdentifyStage(setup.piece, setup.machine, piece, {});
   ASSERT_TRUE(identified.ok()) << identified.status().ToString();
+  ASSERT_TRUE(identified->outliers.empty() && identified->local_defects.empty());  // else not reused
   auto inside = DiagnoseAgainstInstrument(setup, piece, *ref, {});
   auto reused = DiagnoseAgainstInstrument(setup, piece, *ref, {}, &*identified);
   ASSERT_TRUE(inside.ok() && reused.ok());

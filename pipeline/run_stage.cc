@@ -123,8 +123,8 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     clock.Start("diagnose");
     DiagnosisOptions gap_options;
     gap_options.screen_outliers = !config.keep_outliers;
-    // The run's identification is reused for error maps, and for parameters when its set is the
-    // instrument's; otherwise the comparison needs the piece identified with the instrument's set.
+    // The run's identification is reused for error maps when its screen flagged nothing, and for
+    // parameters when its set is the instrument's; else the comparison identifies the piece again.
     auto d = !*reference ? DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options)
                          : DiagnoseAgainstInstrument(*setup, file->points, **reference, gap_options, &*stage);
     if (d.ok())
