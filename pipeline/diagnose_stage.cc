@@ -46,7 +46,7 @@ std::string ReferenceKind(const DiagnoseRequest& r, bool reference_points) {
 }
 
 std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, bool reference_points) {
-  return {{"points", r.points_path},
+  std::map<std::string, std::string> inputs{{"points", r.points_path},
           {"testpiece", r.config_path.empty() ? r.testpiece : r.config_path},
           {"machine", r.machine_path.empty() ? "nominal" : r.machine_path},
           {"reference", r.reference_path},
@@ -54,6 +54,8 @@ std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, boo
           {"noise_um", fmt::format("{}", r.noise_um)},
           {"alpha", fmt::format("{}", r.alpha)},
           {"keep_outliers", r.keep_outliers ? "true" : "false"}};
+  if (!r.reference_setup.empty()) inputs["reference_setup"] = r.reference_setup;
+  return inputs;
 }
 
 }  // namespace
@@ -72,12 +74,17 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   options.noise_um = r.noise_um;
   options.alpha = r.alpha;
   options.screen_outliers = !r.keep_outliers;
+  if (!r.reference_setup.empty() && r.reference_instrument.empty())
+    return Status(StatusCode::kInvalidArgument, "--reference-setup needs --reference-instrument probe_artifacts or ballbar");
   if (!r.reference_instrument.empty() || IsIdentificationReference(r.reference_path)) {
     if (r.reference_path.empty())
       return Status(StatusCode::kInvalidArgument, "--reference-instrument needs --reference FILE (the instrument's file)");
-    auto d = DiagnoseAgainstInstrument(
-        setup, points->points,
-        {.path = r.reference_path, .instrument = r.reference_instrument, .machine_path = r.machine_path}, options);
+    auto d = DiagnoseAgainstInstrument(setup, points->points,
+                                       {.path = r.reference_path,
+                                        .instrument = r.reference_instrument,
+                                        .setup_path = r.reference_setup,
+                                        .machine_path = r.machine_path},
+                                       options);
     if (!d.ok()) return d.status();
     return DiagnoseStageResult{std::move(*d), DiagnosisInputs(r, false)};
   }

@@ -25,9 +25,12 @@ struct DiagnoseRequest {
   // "" = the fitted base model; machine errors (.yaml / .yml, tpcal.errors/1) or a point file (an
   // extension ReadPoints knows: .csv, .ply, .pcd, .xyz, .txt)
   std::string reference_path{};
-  // With reference_path: the instrument whose raw file it is ("datum_ball": tpcal ballpos v1),
-  // identified first and compared with the piece (pipeline/instrument_reference.h).
+  // With reference_path: the instrument whose raw file it is (datum_ball: tpcal ballpos v1,
+  // probe_artifacts: tpcal probepts v1, ballbar: tpcal ballbar v1), identified first and compared
+  // with the piece (pipeline/instrument_reference.h); reference_setup its set-up (probe_artifacts:
+  // artifacts, optional; ballbar: installations, required).
   std::string reference_instrument{};
+  std::string reference_setup{};
   double noise_um = 0.0;              // known CMM noise sigma; 0 = estimated
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
   bool keep_outliers = false;         // true: flagged points stay in (DiagnosisOptions::screen_outliers)

@@ -10,27 +10,26 @@
 #include <set>
 #include <utility>
 
+#include "kinematics/errors_yaml.h"
 #include "kinematics/prior_update.h"
+#include "pipeline/ballbar_stage.h"
 #include "pipeline/datum_ball_stage.h"
 #include "pipeline/diagnosis/reference_agreement.h"
 #include "pipeline/identified_gap.h"
 #include "pipeline/identify_stage.h"
 #include "pipeline/io/identification_reader.h"
+#include "pipeline/probe_artifacts_stage.h"
 
 namespace tpcal::pipeline {
 namespace {
 
-struct InstrumentResult {
-  std::string instrument;
-  std::string machine_type;
-  std::vector<kinematics::ParameterEstimate> parameters;
-};
-
 // A tpcal.identification/1 file: its parameters as they were identified.
-Result<InstrumentResult> ReadIdentified(const std::string& path) {
+Result<InstrumentReference> IrReadIdentified(const std::string& path) {
   auto file = ReadIdentificationJson(path);
   if (!file.ok()) return file.status();
-  InstrumentResult out{file->instrument.empty() ? "identification" : file->instrument, file->machine, {}};
+  InstrumentReference out;
+  out.instrument = file->instrument.empty() ? "identification" : file->instrument;
+  out.machine_type = file->machine;
   for (const IdentifiedParameter& p : file->parameters) {
     kinematics::ParameterEstimate e;
     e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
@@ -39,30 +38,85 @@ Result<InstrumentResult> ReadIdentified(const std::string& path) {
   return out;
 }
 
-Result<InstrumentResult> IdentifyInstrument(const InstrumentReferenceRequest& r) {
-  if (IsIdentificationReference(r.path)) return ReadIdentified(r.path);
+Status IrCheckMachine(const LoadedPiece& setup, const InstrumentReference& ref, const std::string& path) {
+  if (ref.machine_type == kinematics::MachineTypeName(setup.machine.type)) return Status::Ok();
+  return Status(StatusCode::kInvalidArgument,
+                fmt::format("a {} of a {} machine, the piece's machine is {} (give --machine)", ref.instrument,
+                            ref.machine_type.empty() ? "unnamed" : ref.machine_type,
+                            kinematics::MachineTypeName(setup.machine.type)),
+                path);
+}
+
+// The instrument's tpcal.errors/1 (its --errors-out) on the piece's machine.
+Status IrSetMaps(const LoadedPiece& setup, const std::string& errors_yaml, const std::string& path,
+                 InstrumentReference* out) {
+  TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, *out, path));
+  auto maps = kinematics::ParseErrorState(errors_yaml, path, setup.machine);
+  if (!maps.ok()) return maps.status();
+  out->maps = std::move(*maps);
+  return Status::Ok();
+}
+
+Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
+  ProbeArtifactsRequest request;
+  request.path = r.path, request.artifacts_path = r.setup_path, request.machine_path = r.machine_path;
+  auto report = RunProbeArtifactsStage(request);
+  if (!report.ok()) return report.status();
+  InstrumentReference out;
+  out.instrument = r.instrument;
+  out.machine_type = report->machine;
+  out.map_entries = static_cast<int>(report->result.maps.entries.size());
+  out.not_identifiable = report->result.maps.not_identifiable;
+  TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
+  return out;
+}
+
+Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
+  if (r.setup_path.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "--reference-instrument ballbar needs its set-up (--reference-setup S.yaml, tpcal.ballbar_setup/1)",
+                  r.path);
+  auto report = RunBallbarStage({.path = r.path, .setup_path = r.setup_path, .machine_path = r.machine_path});
+  if (!report.ok()) return report.status();
+  if (report->errors_yaml.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "the ball-bar test has no rotary installation: no error maps to diagnose against", r.path);
+  InstrumentReference out;
+  out.instrument = r.instrument;
+  out.machine_type = report->machine;
+  for (const BallbarAxisReport& a : report->axes) {
+    out.map_entries += static_cast<int>(a.result.entries.size());
+    for (const std::string& n : a.result.not_identifiable) out.not_identifiable.push_back(n);
+    for (const std::string& f : a.result.not_separable) out.not_separable.push_back(a.axis + ": " + f);
+  }
+  TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
+  return out;
+}
+
+Result<InstrumentReference> IrIdentify(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
+  if (IsIdentificationReference(r.path)) return IrReadIdentified(r.path);
   if (!IsReferenceInstrument(r.instrument))
-    return Status(StatusCode::kInvalidArgument, "--reference-instrument " + r.instrument + ": expected " + kReferenceInstruments);
+    return Status(StatusCode::kInvalidArgument,
+                  "--reference-instrument '" + r.instrument + "': expected " + kReferenceInstruments);
+  if (r.instrument == "probe_artifacts") return IrProbeArtifacts(setup, r);
+  if (r.instrument == "ballbar") return IrBallbar(setup, r);
+  if (!r.setup_path.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "--reference-setup is for probe_artifacts (its artifacts) or ballbar (its set-up), not datum_ball",
+                  r.setup_path);
   auto ball = RunDatumBallStage({.path = r.path, .machine_path = r.machine_path, .parameters = {}, .ball_part_mm = {}});
   if (!ball.ok()) return ball.status();
-  return InstrumentResult{r.instrument, ball->machine, ball->result.parameters};
+  InstrumentReference out;
+  out.instrument = r.instrument;
+  out.machine_type = ball->machine;
+  out.parameters = ball->result.parameters;
+  return out;
 }
 
 std::vector<std::string> NamesOf(const std::vector<kinematics::ParameterEstimate>& params) {
   std::vector<std::string> names;
   for (const auto& p : params) names.push_back(p.name);
   return names;
-}
-
-// The parameters the piece disagrees with (a disagreeing row, or a name in a disagreeing combination).
-std::set<std::string> Disagreeing(const ReferenceAgreement& a, const std::vector<kinematics::ParameterEstimate>& params) {
-  std::set<std::string> out;
-  for (const AgreementRow& row : a.rows) {
-    if (row.agree) continue;
-    for (const auto& p : params)
-      if (row.name == p.name || row.name.find(p.name) != std::string::npos) out.insert(p.name);
-  }
-  return out;
 }
 
 // The instrument's estimates as errors on the piece's machine (unidentifiable ones at zero); the
@@ -117,29 +171,98 @@ bool IsIdentificationReference(const std::string& path) {
   return ext == ".json";
 }
 
-Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
-                                                  const InstrumentReferenceRequest& r, const DiagnosisOptions& options) {
-  auto inst = IdentifyInstrument(r);
-  if (!inst.ok()) return inst.status();
-  if (inst->machine_type != kinematics::MachineTypeName(setup.machine.type))
-    return Status(StatusCode::kInvalidArgument,
-                  fmt::format("a {} of a {} machine, the piece's machine is {} (give --machine)", inst->instrument,
-                              inst->machine_type.empty() ? "unnamed" : inst->machine_type,
-                              kinematics::MachineTypeName(setup.machine.type)),
-                  r.path);
+Result<InstrumentReference> IdentifyInstrumentReference(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
+  auto ref = IrIdentify(setup, r);
+  if (!ref.ok()) return ref.status();
+  TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, *ref, r.path));
+  ref->source = r.path;
+  return ref;
+}
+
+std::set<std::string> DisagreeingParameters(const ReferenceAgreement& a,
+                                            const std::vector<kinematics::ParameterEstimate>& params) {
+  std::set<std::string> out;
+  for (const AgreementRow& row : a.rows) {
+    if (row.agree) continue;
+    for (const auto& p : params)
+      if (std::find(row.members.begin(), row.members.end(), p.name) != row.members.end()) out.insert(p.name);
+  }
+  return out;
+}
+
+namespace {
+
+// The piece identified with `names` (the instrument's), or the caller's identification when its
+// parameters are those (any set for maps: `names` empty).
+Result<IdentifyStageResult> IrPiece(const LoadedPiece& setup, const PointSet& measured, const std::vector<std::string>& names,
+                                    const std::string& origin, const DiagnosisOptions& options,
+                                    const IdentifyStageResult* identified) {
+  if (identified != nullptr && (names.empty() || identified->parameters == names)) return *identified;
   IdentifyStageOptions id_options;
-  id_options.parameters = NamesOf(inst->parameters);
-  id_options.parameters_origin = r.path;
+  id_options.parameters = names;
+  id_options.parameters_origin = origin;
   id_options.screen_outliers = options.screen_outliers;
-  auto piece = RunIdentifyStage(setup.piece, setup.machine, measured, id_options);
+  return RunIdentifyStage(setup.piece, setup.machine, measured, id_options);
+}
+
+DiagnosisOptions IrDiagnosisOptions(const DiagnosisOptions& options, const InstrumentReference& ref,
+                                    kinematics::ErrorState reference) {
+  DiagnosisOptions d = options;
+  d.reference = std::move(reference);
+  d.reference_name = ref.instrument + " " + std::filesystem::path(ref.source).filename().string();
+  d.reference_path = ref.source;
+  return d;
+}
+
+// "the instrument's error maps (600 node values; 4 not identifiable by its plan, taken as 0: ...)
+// as measured; no parameter in common with the piece's model: compared by simulation only".
+std::string MapsNote(const InstrumentReference& ref) {
+  std::string note = fmt::format("the instrument's error maps ({} node values", ref.map_entries);
+  if (!ref.not_identifiable.empty())
+    note += fmt::format("; {} not identifiable by its plan, taken as 0: {}", ref.not_identifiable.size(),
+                        fmt::join(ref.not_identifiable, ", "));
+  if (!ref.not_separable.empty())
+    note += fmt::format("; no component along what its installations cannot separate: {}", fmt::join(ref.not_separable, "; "));
+  return note + ") as measured; no parameter in common with the piece's model: compared by simulation only";
+}
+
+// The piece's own outlier screen flags what its model lacks and the maps may hold (an error
+// motion): the piece is identified with every point and the diagnosis screens against the maps.
+// The caller's identification serves when its screen flagged nothing.
+Result<DiagnosisResult> IrAgainstMaps(const LoadedPiece& setup, const PointSet& measured, const InstrumentReference& ref,
+                                      const DiagnosisOptions& options, const IdentifyStageResult* identified) {
+  const bool unscreened = identified != nullptr && identified->outliers.empty() && identified->local_defects.empty();
+  DiagnosisOptions keep_all = options;
+  keep_all.screen_outliers = false;
+  auto piece = IrPiece(setup, measured, {}, ref.source, keep_all, unscreened ? identified : nullptr);
   if (!piece.ok()) return piece.status();
-  ReferenceAgreement agreement = CompareWithReference(inst->parameters, piece->identification.parameters,
+  piece->outliers.clear(), piece->local_defects.clear();
+  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, IrDiagnosisOptions(options, ref, *ref.maps));
+  if (!d.ok()) return d.status();
+  ReferenceAgreement agreement;
+  agreement.alpha = options.alpha, agreement.p_threshold = options.alpha;
+  agreement.instrument = ref.instrument;
+  agreement.source = ref.source;
+  agreement.reference_note = MapsNote(ref);
+  d->reference_agreement = std::move(agreement);
+  return d;
+}
+
+}  // namespace
+
+Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
+                                                  const InstrumentReference& ref, const DiagnosisOptions& options,
+                                                  const IdentifyStageResult* identified) {
+  if (ref.maps) return IrAgainstMaps(setup, measured, ref, options, identified);
+  auto piece = IrPiece(setup, measured, NamesOf(ref.parameters), ref.source, options, identified);
+  if (!piece.ok()) return piece.status();
+  ReferenceAgreement agreement = CompareWithReference(ref.parameters, piece->identification.parameters,
                                                       piece->identification.identifiability, options.alpha);
-  const std::set<std::string> held = Disagreeing(agreement, inst->parameters);
+  const std::set<std::string> held = DisagreeingParameters(agreement, ref.parameters);
   // Where the two agree, the piece refines the instrument within its u (a loose instrument cannot
   // raise an alarm); where they disagree, the instrument is the cold machine as measured and the
   // piece's departure from it is what the diagnosis explains (an update would absorb part of it).
-  auto prior = InstrumentPrior(setup.machine, inst->parameters, !held.empty());
+  auto prior = InstrumentPrior(setup.machine, ref.parameters, !held.empty());
   if (!prior.ok()) return prior.status();
   const double sigma_um = options.noise_um > 0.0 ? options.noise_um : std::max(piece->identification.sigma_um, 1e-3);
   auto update = prior->active.size() == 0
@@ -147,17 +270,21 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
                     : kinematics::UpdateWithinPrior(setup.machine, prior->errors, prior->active, prior->u,
                                                     piece->observations.observations, sigma_um);
   if (!update.ok()) return update.status();
-  DiagnosisOptions d_options = options;
-  d_options.reference = update->posterior;
-  d_options.reference_name = inst->instrument + " " + std::filesystem::path(r.path).filename().string();
-  d_options.reference_path = r.path;
-  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, d_options);
+  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured,
+                              IrDiagnosisOptions(options, ref, update->posterior));
   if (!d.ok()) return d.status();
-  agreement.instrument = inst->instrument;
-  agreement.source = r.path;
+  agreement.instrument = ref.instrument;
+  agreement.source = ref.source;
   agreement.reference_note = UpdateNote(*prior, *update, held);
   d->reference_agreement = std::move(agreement);
   return d;
+}
+
+Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
+                                                  const InstrumentReferenceRequest& r, const DiagnosisOptions& options) {
+  auto ref = IdentifyInstrumentReference(setup, r);
+  if (!ref.ok()) return ref.status();
+  return DiagnoseAgainstInstrument(setup, measured, *ref, options);
 }
 
 }  // namespace tpcal::pipeline

@@ -1,41 +1,93 @@
 // A measured test piece against an instrument test of the same machine (issue 22, seed 002
-// section 4.4): the instrument's raw file is identified first (datum ball: kinematics/datum_ball.h),
-// the piece is identified with the same parameters (identify_stage.h), and the two are compared
-// parameter by parameter (diagnosis/reference_agreement.h). The piece's gap is then diagnosed
-// against the instrument's errors updated by the piece within the instrument's uncertainty
-// (kinematics/prior_update.h): a tight instrument is the "sim" as measured, a loose one yields to
-// the piece, so its uncertainty cannot raise a false alarm. Nothing is written here.
+// section 4.4): the instrument's raw file is identified first, then
+//  * datum ball (kinematics/datum_ball.h) or an identification tpcal wrote (.json): location
+//    errors and squareness. The piece is identified with the same parameters (identify_stage.h),
+//    the two are compared parameter by parameter (diagnosis/reference_agreement.h), and the
+//    piece's gap is diagnosed against the instrument's errors updated by the piece within the
+//    instrument's uncertainty (kinematics/prior_update.h): a tight instrument is the "sim" as
+//    measured, a loose one yields to the piece, so its uncertainty cannot raise a false alarm.
+//  * probe_artifacts (seed 000) or ballbar (seed 003): error maps of the rotary axes (error
+//    motions at the measured angles, tables), which no parameter of the piece's model names. The
+//    "sim" is the instrument's tpcal.errors/1 (what `identify --errors-out` writes: the maps,
+//    entries the instrument cannot determine at 0) on the piece's machine, as measured: their
+//    noise is not weighed (the piece's lever arms amplify it; an update within the maps' u, as
+//    for the datum ball, would absorb a withheld drift into the hundreds of node values: README),
+//    so the instrument must be tight. The piece is identified with its own parameters and every point
+//    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
+//    against the maps. No parameter is compared (the table says so and names what the instrument
+//    left undetermined): the two meet through the simulated piece only.
+// Nothing is written here.
 #pragma once
 
+#include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "core/point_set.h"
 #include "core/status.h"
+#include "kinematics/error_state.h"
+#include "kinematics/identification.h"
 #include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/identify_stage.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/reference_instruments.h"
 
 namespace tpcal::pipeline {
 
 struct InstrumentReferenceRequest {
-  // The instrument's file (datum_ball: tpcal ballpos v1, identified here), or an identification
-  // tpcal wrote (.json, tpcal.identification/1: its parameters as they are, the instrument named
-  // there; any measurement type or test piece).
+  // The instrument's raw file (datum_ball: tpcal ballpos v1; probe_artifacts: tpcal probepts v1;
+  // ballbar: tpcal ballbar v1), identified here, or an identification tpcal wrote (.json,
+  // tpcal.identification/1: its parameters as they are, the instrument named there).
   std::string path;
-  std::string instrument;    // "datum_ball" for a raw file; ignored for .json
+  std::string instrument;    // kReferenceInstruments for a raw file; ignored for .json
+  // probe_artifacts: its artifacts (tpcal.artifacts/1; "" = seed 000's three columns); ballbar:
+  // its installations (tpcal.ballbar_setup/1, required); datum_ball: must be "".
+  std::string setup_path;
   std::string machine_path;  // the piece's machine file ("" = the nominal machine of its type)
+};
+
+// The instrument's result, on the piece's machine.
+struct InstrumentReference {
+  std::string instrument;  // "datum_ball", "probe_artifacts", "ballbar", or the .json's
+  std::string source;      // request.path
+  std::string machine_type;  // of the instrument's machine ("" when a .json names none)
+  // Location errors and squareness (datum ball, .json): compared parameter by parameter.
+  std::vector<kinematics::ParameterEstimate> parameters;
+  // Error maps (probe_artifacts, ballbar): the instrument's errors as measured; `parameters` empty.
+  std::optional<kinematics::ErrorState> maps;
+  int map_entries = 0;                       // node values the instrument reports
+  std::vector<std::string> not_identifiable;  // map entries it cannot determine (written as 0)
+  std::vector<std::string> not_separable;     // ballbar: families the maps carry no component of
 };
 
 // A reference that is an identification tpcal wrote (by its extension, .json).
 bool IsIdentificationReference(const std::string& path);
 
+// Identifies the instrument's file. Errors: an unknown instrument for a raw file
+// (kInvalidArgument listing the known ones), a set-up given to datum_ball or missing for ballbar,
+// the instrument file's, set-up's and identification's (file:line), a .json's
+// (pipeline/io/identification_reader.h), a reference machine of another type than the piece's.
+Result<InstrumentReference> IdentifyInstrumentReference(const LoadedPiece& setup,
+                                                        const InstrumentReferenceRequest& request);
+
 // `options` carry noise, alpha and the screen (reference and base set are set here); `measured`
-// is the piece's point file. The result holds reference_agreement. Errors: an unknown instrument
-// for a raw file (kInvalidArgument listing the known ones), the instrument file's and
-// identification's (pipeline/io/identification_reader.h for .json), a reference machine of
-// another type than the piece's, the piece identification's, the diagnosis's.
+// is the piece's point file. `identified`: the piece already identified by the caller (tpcal run)
+// with the same options; used when its parameters are the ones the comparison needs (the
+// instrument's; for maps, any, when its screen flagged nothing). The result holds reference_agreement. Errors: the piece
+// identification's, the diagnosis's.
+Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
+                                                  const InstrumentReference& reference,
+                                                  const DiagnosisOptions& options,
+                                                  const IdentifyStageResult* identified = nullptr);
+// IdentifyInstrumentReference, then the above; its errors first.
 Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, const PointSet& measured,
                                                   const InstrumentReferenceRequest& request,
                                                   const DiagnosisOptions& options);
+
+// The parameters of `params` the piece disagrees with: a disagreeing row's members (the
+// parameter itself, or the parameters of a combination), matched by name exactly.
+std::set<std::string> DisagreeingParameters(const ReferenceAgreement& agreement,
+                                            const std::vector<kinematics::ParameterEstimate>& params);
 
 }  // namespace tpcal::pipeline

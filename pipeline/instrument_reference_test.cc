@@ -79,7 +79,7 @@ PointSet CutPiece(const std::string& errors_yaml, std::uint64_t seed) {
 Result<DiagnosisResult> AgainstBall(const PointSet& piece, const std::string& ballpos) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
   DiagnosisOptions options;
-  return DiagnoseAgainstInstrument(setup, piece, {.path = ballpos, .instrument = "datum_ball", .machine_path = ""}, options);
+  return DiagnoseAgainstInstrument(setup, piece, {.path = ballpos, .instrument = "datum_ball", .setup_path = "", .machine_path = ""}, options);
 }
 
 TEST(InstrumentReference, ColdPieceAgreesWithATightDatumBallTest) {
@@ -108,14 +108,14 @@ TEST(InstrumentReference, DriftWithheldFromTheInstrumentIsNamed) {
 
 TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
-  auto bad = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = "x.csv", .instrument = "laser", .machine_path = ""}, {});
+  auto bad = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = "x.csv", .instrument = "laser", .setup_path = "", .machine_path = ""}, {});
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("expected datum_ball"), std::string::npos);
   const auto bc = InstrumentTestDir() / "bc.csv";
   std::ofstream(bc) << "# tpcal ballpos v1\nB_deg,C_deg,x,y,z\n";
   for (int b : {0, 30, -30})
     for (int c : {0, 90, 180, 270}) std::ofstream(bc, std::ios::app) << b << "," << c << ",200,0,300\n";
-  auto other = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = bc.string(), .instrument = "datum_ball", .machine_path = ""}, {});
+  auto other = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = bc.string(), .instrument = "datum_ball", .setup_path = "", .machine_path = ""}, {});
   ASSERT_FALSE(other.ok());
   EXPECT_NE(other.status().ToString().find("machine is ac_table"), std::string::npos) << other.status().ToString();
 }

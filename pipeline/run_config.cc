@@ -60,23 +60,26 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
   return value;
 }
 
-// reference: {instrument: datum_ball, file: PATH}: both keys, the file relative to the YAML's directory.
+// reference: {instrument: NAME, file: PATH, setup: PATH}: instrument (default datum_ball) and file;
+// setup for probe_artifacts (optional) and ballbar; paths relative to the YAML's directory.
 Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, PipelineConfig* c) {
-  if (!v.IsMap()) return ParseErrorAt(source, v, "'reference': expected a map {instrument: datum_ball, file: PATH}");
+  if (!v.IsMap())
+    return ParseErrorAt(source, v, "'reference': expected a map {instrument: datum_ball, file: PATH, setup: PATH}");
   c->reference_instrument = "datum_ball";
   bool have_file = false;
   for (const auto& r : v) {
     const std::string k = r.first.as<std::string>();
-    if (k != "instrument" && k != "file")
+    if (k != "instrument" && k != "file" && k != "setup")
       return ParseErrorAt(source, r.first,
-                          "unknown key 'reference." + EchoInput(k) + "' (expected instrument, file)");
-    auto s = As<std::string>(source, r.second, k, k == "file" ? "a path" : "datum_ball");
+                          "unknown key 'reference." + EchoInput(k) + "' (expected instrument, file, setup)");
+    auto s = As<std::string>(source, r.second, k, k == "instrument" ? kReferenceInstruments : "a path");
     if (!s.ok()) return s.status();
     if (k == "instrument" && !IsReferenceInstrument(*s))
       return ParseErrorAt(source, r.second, "'reference.instrument' '" + EchoInput(*s) + "': expected " + std::string(kReferenceInstruments));
-    if (k == "file" && s->empty()) return ParseErrorAt(source, r.second, "'reference.file': expected a path");
+    if (k != "instrument" && s->empty()) return ParseErrorAt(source, r.second, "'reference." + k + "': expected a path");
     if (k == "instrument") c->reference_instrument = *s;
     if (k == "file") c->reference_file = Resolve(source, *s);
+    if (k == "setup") c->reference_setup = Resolve(source, *s);
     have_file = have_file || k == "file";
   }
   if (!have_file) return ParseErrorAt(source, v, "'reference': missing key 'file' (the instrument's file)");
@@ -112,6 +115,14 @@ Status PipelineConfig::Validate() const {
   if (!reference_instrument.empty() && !IsReferenceInstrument(reference_instrument))
     return Status(StatusCode::kInvalidArgument,
                   "'reference': instrument '" + EchoInput(reference_instrument) + "': expected " + std::string(kReferenceInstruments), source);
+  if (!reference_setup.empty() && !ReferenceTakesSetup(reference_instrument))
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': setup is for probe_artifacts (its artifacts) or ballbar (its installations), not '" +
+                      EchoInput(reference_instrument) + "'", source);
+  if (reference_instrument == "ballbar" && reference_setup.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': instrument ballbar needs its set-up (reference.setup / --reference-setup S.yaml, "
+                  "tpcal.ballbar_setup/1)", source);
   if (Status s = scan_cells.Validate(); !s.ok()) return s.WithLocation(source);
   return Status::Ok();
 }
@@ -127,6 +138,7 @@ Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOv
   if (o.keep_outliers) c.keep_outliers = true;
   if (!o.reference_file.empty()) c.reference_file = o.reference_file;
   if (!o.reference_instrument.empty()) c.reference_instrument = o.reference_instrument;
+  if (!o.reference_setup.empty()) c.reference_setup = o.reference_setup;
   if (!o.out.empty()) c.out = o.out;
   if (!o.anchor_feature.empty()) {
     c.anchor_feature = o.anchor_feature;
@@ -318,6 +330,7 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
     e << YAML::Key << "reference" << YAML::Value << YAML::BeginMap;
     e << YAML::Key << "instrument" << YAML::Value << c.reference_instrument;
     e << YAML::Key << "file" << YAML::Value << c.reference_file;
+    if (!c.reference_setup.empty()) e << YAML::Key << "setup" << YAML::Value << c.reference_setup;
     e << YAML::EndMap;
   }
   e << YAML::Key << "raw_scan" << YAML::Value << YAML::BeginMap;

@@ -14,7 +14,9 @@
 //   diagnose: true                          # gap diagnosis (pipeline/diagnosis/diagnosis.h) against the identified model
 //   truth: ../turning/truth.yaml            # optional: stated truth of a simulated sample (report marks)
 //   reference: {instrument: datum_ball, file: ballpos.csv}  # optional: the diagnosis against an
-//                                           #   instrument test of the same machine (instrument_reference.h)
+//                                           #   instrument test of the same machine (instrument_reference.h);
+//                                           #   probe_artifacts / ballbar: also setup: PATH (artifacts, optional;
+//                                           #   installations, required)
 //   raw_scan: {anchor_feature: H1, anchor_near_mm: [120, -80, 40]}  # optional: for a raw scan of a
 //                                           #   symmetric piece, the feature nearest this CMM point
 //   scan_cells: {above_points: 250000, target_cells: 100000, max_cell_mm: 4, max_cell_deg: 2}
@@ -53,9 +55,12 @@ struct PipelineConfig {
   std::string truth;        // "" = none
   // An instrument test of the same machine the diagnosis is made against
   // (pipeline/instrument_reference.h); "" = none, both set or neither. YAML reference:
-  // {instrument: datum_ball, file: PATH}; `tpcal run --reference PATH --reference-instrument NAME`.
+  // {instrument: datum_ball, file: PATH, setup: PATH}; `tpcal run --reference PATH
+  // --reference-instrument NAME [--reference-setup S.yaml]`. reference_setup: probe_artifacts'
+  // artifacts (tpcal.artifacts/1, "" = seed 000's), ballbar's installations (required).
   std::string reference_instrument;
   std::string reference_file;
+  std::string reference_setup;
   // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
   // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
   // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}; `tpcal run --anchor H1@x,y,z` overrides it.
@@ -87,6 +92,7 @@ struct PipelineOverrides {
   bool keep_outliers = false;  // --keep-outliers: true sets keep_outliers, false leaves the file's
   std::string reference_file{};        // non-empty: replaces the reference's file
   std::string reference_instrument{};  // non-empty: replaces the reference's instrument
+  std::string reference_setup{};       // non-empty: replaces the reference's set-up
   std::string out{};
   std::string anchor_feature{};  // non-empty: replaces raw_scan's anchor_feature and anchor_near_mm
   std::optional<Eigen::Vector3d> anchor_near_mm{};

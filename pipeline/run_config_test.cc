@@ -105,5 +105,34 @@ TEST(PipelineOverrides, BadReferenceBlocksNameTheLine) {
   EXPECT_NE(not_map.status().ToString().find("/d/p.yaml:2"), std::string::npos) << not_map.status().ToString();
 }
 
+// The set-up of a map instrument: relative to the file, written back, replaced by the flag;
+// required by ballbar, refused for datum_ball.
+TEST(PipelineOverrides, ReferenceSetupOfTheMapInstruments) {
+  auto file = ParsePipelineConfig(
+      "points: a.csv\nout: o\nreference: {instrument: ballbar, file: bb.csv, setup: s.yaml}\n", "/d/p.yaml");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  EXPECT_EQ(file->reference_setup, "/d/s.yaml");
+  EXPECT_TRUE(file->Validate().ok());
+  EXPECT_NE(FormatPipelineConfig(*file).find("reference:\n  instrument: ballbar\n  file: /d/bb.csv\n  setup: /d/s.yaml"),
+            std::string::npos)
+      << FormatPipelineConfig(*file);
+  PipelineOverrides o;
+  o.reference_setup = "e/s2.yaml";
+  auto c = ApplyPipelineOverrides(*file, o, false);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->reference_setup, "e/s2.yaml");
+  auto no_setup = ParsePipelineConfig("points: a.csv\nreference: {instrument: ballbar, file: bb.csv}\n", "/d/p.yaml");
+  ASSERT_TRUE(no_setup.ok());
+  EXPECT_NE(no_setup->Validate().ToString().find("/d/p.yaml: 'reference': instrument ballbar needs its set-up"),
+            std::string::npos)
+      << no_setup->Validate().ToString();
+  auto ball = ParsePipelineConfig("points: a.csv\nreference: {file: b.csv, setup: s.yaml}\n", "/d/p.yaml");
+  ASSERT_TRUE(ball.ok());
+  EXPECT_NE(ball->Validate().ToString().find("setup is for probe_artifacts"), std::string::npos);
+  auto probe = ParsePipelineConfig("points: a.csv\nreference: {instrument: probe_artifacts, file: p.csv}\n", "/d/p.yaml");
+  ASSERT_TRUE(probe.ok());
+  EXPECT_TRUE(probe->Validate().ok()) << probe->Validate().ToString();
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

@@ -8,7 +8,6 @@
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identified_gap.h"
 #include "pipeline/instrument_reference.h"
-#include "pipeline/io/ballpos_reader.h"
 #include "pipeline/io/file_bytes.h"
 #include "pipeline/piece_loader.h"
 #include "pipeline/raw_scan_labeling.h"
@@ -43,26 +42,32 @@ class StageClock {
   std::chrono::steady_clock::time_point t0_;
 };
 
-// A reference instrument's file is input: unreadable or malformed, the run stops before any
-// stage (file:line); what the instrument's identification or the diagnosis cannot do later is
-// the diagnosis's status, as without a reference.
-Status CheckInstrumentFile(const PipelineConfig& config) {
-  if (config.reference_file.empty()) return Status::Ok();
-  auto file = ReadBallPositions(config.reference_file);
-  return file.ok() ? Status::Ok() : file.status();
+// A reference instrument the user asked for is input: its file (or set-up) unreadable or
+// malformed, its test not identifiable, or of another machine type, the run stops before any
+// output with that status (file:line); what the comparison cannot do later (e.g. no residual
+// degrees of freedom) is the diagnosis's status, as without a reference.
+Result<std::optional<InstrumentReference>> RunReference(const PipelineConfig& config, const LoadedPiece& setup) {
+  if (config.reference_file.empty()) return std::optional<InstrumentReference>();
+  auto ref = IdentifyInstrumentReference(setup, {.path = config.reference_file,
+                                                 .instrument = config.reference_instrument,
+                                                 .setup_path = config.reference_setup,
+                                                 .machine_path = config.machine});
+  if (!ref.ok()) return ref.status().WithContext("the reference instrument (" + config.reference_instrument + ")");
+  return std::optional<InstrumentReference>(std::move(*ref));
 }
 
 }  // namespace
 
 Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options) {
   if (Status s = config.Validate(); !s.ok()) return s;
-  if (Status s = CheckInstrumentFile(config); !s.ok()) return s;
   std::vector<StageTiming> timings;
   StageClock clock(&timings, options.progress);
 
   clock.Start("setup");
   auto setup = LoadPiece({.testpiece = config.testpiece, .machine_path = config.machine, .allow_piece_file = true});
   if (!setup.ok()) return setup.status();
+  auto reference = RunReference(config, *setup);
+  if (!reference.ok()) return reference.status();
 
   clock.Start("read");
   PointReadOptions read;
@@ -118,13 +123,10 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
     clock.Start("diagnose");
     DiagnosisOptions gap_options;
     gap_options.screen_outliers = !config.keep_outliers;
-    auto d = config.reference_file.empty()
-                 ? DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options)
-                 : DiagnoseAgainstInstrument(*setup, file->points,
-                                             {.path = config.reference_file,
-                                              .instrument = config.reference_instrument,
-                                              .machine_path = config.machine},
-                                             gap_options);
+    // The run's identification is reused for error maps when its screen flagged nothing, and for
+    // parameters when its set is the instrument's; else the comparison identifies the piece again.
+    auto d = !*reference ? DiagnoseIdentified(setup->piece, setup->machine, *stage, file->points, gap_options)
+                         : DiagnoseAgainstInstrument(*setup, file->points, **reference, gap_options, &*stage);
     if (d.ok())
       diagnosis = std::move(*d);
     else

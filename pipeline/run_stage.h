@@ -50,9 +50,10 @@ struct RunResult {
   IdentifyStageResult stage;     // inspection, observations, parameters, identification
   // Gap diagnosis with the identified parameter set as the base model (config.diagnose), or, when
   // config names a reference instrument, against that instrument (instrument_reference.h: the
-  // piece identified again with the instrument's parameters; reference_agreement set); when it
-  // could not be made (e.g. no residual degrees of freedom) diagnosis_status says why and the
-  // rest of the run stands.
+  // piece identified again with the instrument's parameters unless they are the run's, or for
+  // error maps with the run's identification; reference_agreement set); when it could not be
+  // made (e.g. no residual degrees of freedom) diagnosis_status says why and the rest of the run
+  // stands.
   std::optional<DiagnosisResult> diagnosis;
   Status diagnosis_status;
   std::map<std::string, double> truth;  // stated truth (display units) when config.truth is set
@@ -66,7 +67,9 @@ struct RunOptions {
 };
 
 // Errors: the first failing stage's status (file, line, what was expected); with a reference
-// instrument, first its file's (unreadable, or not tpcal ballpos v1: pipeline/io/ballpos_reader.h).
+// instrument, identified right after the piece is set up, its failure (file or set-up unreadable or
+// malformed, not identifiable, another machine type: IdentifyInstrumentReference) prefixed "the
+// reference instrument (NAME): ".
 Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& options = {});
 
 }  // namespace tpcal::pipeline

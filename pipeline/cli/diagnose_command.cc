@@ -1,4 +1,5 @@
 // tpcal diagnose POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--reference ERRORS.yaml|REF_POINTS]
+//                 [--reference INSTRUMENT_FILE --reference-instrument NAME [--reference-setup S.yaml]]
 //                 [--anchor FEATURE@X,Y,Z] [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
@@ -70,9 +71,14 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
                   "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point, "
                   "or an instrument's file (with --reference-instrument)");
   sub->add_option("--reference-instrument", r->reference_instrument,
-                  "--reference is this instrument's file, identified first: datum_ball (tpcal ballpos v1); the piece "
-                  "is compared with it parameter by parameter and diagnosed against it")
-      ->check(CLI::IsMember({"datum_ball"}));
+                  "--reference is this instrument's file, identified first: datum_ball (tpcal ballpos v1: the piece "
+                  "is compared with it parameter by parameter), probe_artifacts (tpcal probepts v1) or ballbar "
+                  "(tpcal ballbar v1; needs --reference-setup): error maps of the rotary axes, no parameter in "
+                  "common with the piece, compared through the piece simulated from them; the gap is diagnosed "
+                  "against the instrument");
+  sub->add_option("--reference-setup", r->reference_setup,
+                  "with --reference-instrument probe_artifacts: its artifacts (tpcal.artifacts/1; default seed 000's "
+                  "three columns); ballbar: its installations (tpcal.ballbar_setup/1, required)");
   sub->add_option("--noise-um", r->noise_um, "known CMM noise sigma (um) for 'beyond noise'; 0 = estimated")
       ->capture_default_str();
   sub->add_option("--alpha", r->alpha, "family-wise false-alarm probability of the verdict")->capture_default_str();
@@ -104,6 +110,10 @@ Command RegisterDiagnose(CLI::App& app) {
       "--reference BALLPOS.csv --reference-instrument datum_ball: the datum-ball test is identified, the piece is\n"
       "identified with the same parameters, the two are compared (value +- u each, z; Bonferroni at --alpha), and\n"
       "the gap is diagnosed against the instrument's errors updated by the piece within the instrument's u.\n"
+      "--reference PROBEPTS.csv --reference-instrument probe_artifacts [--reference-setup ARTIFACTS.yaml], or\n"
+      "--reference BALLBAR.csv --reference-instrument ballbar --reference-setup SETUP.yaml: the rotary axes' error\n"
+      "maps are identified and the gap is diagnosed against them as measured (no parameter in common: the table\n"
+      "compares none and says so).\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   CLI::Option* testpiece = AddDiagnoseOptions(sub, args.get());
   AddValidateOptions(sub, &args->validate);

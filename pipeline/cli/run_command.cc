@@ -94,7 +94,12 @@ Command RegisterRun(CLI::App& app) {
   sub->add_option("--reference", args->overrides.reference_file,
                   "an instrument test of the same machine to diagnose against (with --reference-instrument)");
   sub->add_option("--reference-instrument", args->overrides.reference_instrument,
-                  "the instrument of --reference: datum_ball (tpcal ballpos v1)");
+                  "the instrument of --reference: datum_ball (tpcal ballpos v1), probe_artifacts (tpcal probepts v1) "
+                  "or ballbar (tpcal ballbar v1); a reference that cannot be read or identified is bad input (exit 2, "
+                  "nothing written)");
+  sub->add_option("--reference-setup", args->overrides.reference_setup,
+                  "the set-up of --reference: probe_artifacts' artifacts (tpcal.artifacts/1, optional), ballbar's "
+                  "installations (tpcal.ballbar_setup/1, required)");
   sub->add_option("--batch", args->batch, "directory or glob of point files: run each, in parallel");
   sub->add_option("-j,--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
   sub->add_flag("-q,--quiet", args->quiet, "no progress lines");

@@ -18,6 +18,7 @@ std::map<std::string, const ParameterEstimate*> ByName(std::span<const Parameter
 AgreementRow ParameterRow(const ParameterEstimate& inst, const ParameterEstimate* piece) {
   AgreementRow row;
   row.name = inst.name, row.unit = inst.unit;
+  row.members = {inst.name};
   row.instrument_known = inst.identifiable;
   row.instrument_value = inst.value, row.instrument_u = inst.u;
   row.piece_known = piece && piece->identifiable && piece->unit == inst.unit;
@@ -34,6 +35,7 @@ AgreementRow ParameterRow(const ParameterEstimate& inst, const ParameterEstimate
 AgreementRow CombinationRow(const kinematics::Combination& c, const std::map<std::string, const ParameterEstimate*>& inst) {
   AgreementRow row;
   row.name = c.text;
+  row.members = c.names;
   row.piece_known = true, row.piece_value = c.value, row.piece_u = c.u;
   double value = 0.0, var = 0.0;
   row.instrument_known = true;

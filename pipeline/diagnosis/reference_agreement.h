@@ -17,6 +17,7 @@ namespace tpcal::pipeline {
 
 struct AgreementRow {
   std::string name;              // ISO 230-1 parameter, or the combination's text
+  std::vector<std::string> members;  // the parameter, or the combination's parameters
   std::string unit;              // "um" or "urad"
   bool instrument_known = false, piece_known = false;
   double instrument_value = 0.0, instrument_u = 0.0;  // display units, k = 1
