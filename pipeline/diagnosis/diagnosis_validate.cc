@@ -838,13 +838,16 @@ std::string ValidationMarkdown(const ValidationSummary& s) {
     o += fmt::format("\nOutlier screen: {:.1f} % of {} injected outliers found at >= 10x noise; {:.2f} % of the clean "
                      "points of the outlier and effect-free trials flagged\n",
                      100 * s.outliers_found_rate, s.outliers_injected, 100 * s.false_flag_rate);
+  int right_verdicts = 0;
+  for (const auto& [m, c] : s.verdict_cv_method) right_verdicts += c;
   if (s.against_reference)
     o += fmt::format("\nAgainst the reference: false alarms on effect-free pieces {} of {} (a verdict other than none, or "
                      "a parameter the piece and the reference disagree on: {} of {}); median cross-validated shrink of "
-                     "the gap by a right verdict (magnitude >= 5x, observable) {:.0f} %. The magnitudes are those of the part of "
+                     "the gap by a right verdict (magnitude >= 5x, observable) {}. The magnitudes are those of the part of "
                      "the signature the base model cannot absorb (or the raw peak): against the reference, which is "
                      "not refitted, the gap keeps more of the effect.\n",
-                     s.none_alarms, s.none_trials, s.none_disagreeing, s.none_trials, s.median_cv_shrink_pct);
+                     s.none_alarms, s.none_trials, s.none_disagreeing, s.none_trials,
+                     right_verdicts ? fmt::format("{:.0f} %", s.median_cv_shrink_pct) : std::string("- (none)"));
   o += "\nRight verdict (top-1): the withheld family; outliers: none (the screen leaves them out); pairs: both "
        "families named (verdict.families); fixture_bend, spindle_growth, lobes7 (no candidate): unexplained or a catalogue family (not none, not local_defect).\n";
   // Against a reference the gap keeps what the base model would absorb: shares of the part
