@@ -106,10 +106,15 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
 Result<std::string> RunValidationStage(const LoadedPiece& setup, const ValidationOptions& v) {
   auto summary = RunValidation(setup.piece, setup.machine, v);
   if (!summary.ok()) return summary.status();
-  return fmt::format("Diagnosis validation: {} piece, seed {}, trials {}, magnitudes {} ({} peak), noise {} um\n\n",
-                     setup.piece.name, v.seed, v.trials, fmt::join(v.magnitudes, ","),
-                     v.scale_raw_peak ? "raw signature" : "visible signature", fmt::join(v.noise_um, ",")) +
-         ValidationMarkdown(*summary);
+  return ValidationStageMarkdown(setup, v, *summary);
+}
+
+std::string ValidationStageMarkdown(const LoadedPiece& setup, const ValidationOptions& v, const ValidationSummary& summary) {
+  return fmt::format("Diagnosis validation{}: {} piece, seed {}, trials {}, magnitudes {} ({} peak), noise {} um\n\n",
+                     v.reference_name.empty() ? "" : " against a " + v.reference_name, setup.piece.name, v.seed,
+                     v.trials, fmt::join(v.magnitudes, ","), v.scale_raw_peak ? "raw signature" : "visible signature",
+                     fmt::join(v.noise_um, ",")) +
+         ValidationMarkdown(summary);
 }
 
 }  // namespace tpcal::pipeline

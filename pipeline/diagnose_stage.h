@@ -62,4 +62,8 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
 // those of RunValidation.
 Result<std::string> RunValidationStage(const LoadedPiece& setup, const ValidationOptions& options);
 
+// That Markdown for a summary already run (the title names options.reference_name when set).
+std::string ValidationStageMarkdown(const LoadedPiece& setup, const ValidationOptions& options,
+                                    const ValidationSummary& summary);
+
 }  // namespace tpcal::pipeline

@@ -22,14 +22,34 @@ void AddValidateOptions(CLI::App* sub, ValidateArgs* args) {
   sub->add_flag("--no-placement", args->no_placement, "validation: the CMM frame is the datum frame (no random placement)");
   sub->add_flag("--raw-peak", v->scale_raw_peak,
                 "validation: magnitudes scale the raw signature's peak (default: the part the base model cannot absorb)");
+  sub->add_option("--reference-noise-um", args->instrument.noise_um,
+                  "validation with --reference-instrument: noise sigma of the instrument's readings (um)")
+      ->capture_default_str();
+  args->reference_instrument = sub->get_option_no_throw("--reference-instrument");
 }
+
+namespace {
+
+// The instrument --validate is run against ("" = none: the fitted base model).
+std::string ValidationInstrument(const ValidateArgs& args) {
+  if (args.reference_instrument == nullptr || args.reference_instrument->count() == 0) return "";
+  return args.reference_instrument->as<std::string>();
+}
+
+}  // namespace
 
 int RunValidate(const ValidateArgs& args, const pipeline::LoadedPiece& setup) {
   pipeline::ValidationOptions options = args.options;
   options.random_placement = !args.no_placement;
   Info(fmt::format("tpcal diagnose --validate: {} piece, seed {}, {} trial(s) per family, magnitude and noise level",
                    setup.piece.name, options.seed, options.trials));
-  auto md = pipeline::RunValidationStage(setup, options);
+  pipeline::InstrumentValidationOptions instrument = args.instrument;
+  instrument.instrument = ValidationInstrument(args);
+  if (!instrument.instrument.empty())
+    Info(fmt::format("against a {} test of each trial's cold machine, reading noise {:g} um", instrument.instrument,
+                     instrument.noise_um));
+  auto md = instrument.instrument.empty() ? pipeline::RunValidationStage(setup, options)
+                                          : pipeline::RunInstrumentValidationStage(setup, options, instrument);
   if (!md.ok()) return ReportError(md.status());
   std::cout << *md;
   if (!args.markdown.empty()) {

@@ -107,6 +107,20 @@ void AddToolDeflection(const ProcessPoints& p, CandidateCatalogue* out) {
   else out->not_applicable.push_back({"tool_deflection", "no turned or milled feature is measured"});
 }
 
+// A probed point on a reversal (the paper plan's circles have points at 0, 90, 180 and 270 deg)
+// is at its glitch's peak whichever side of the reversal its associated position falls: angles
+// along the arc within this of a crossing count as at it, and one this short of a full turn as at
+// the start. The identify stage's observations put such points 5e-6 to 3e-5 rad either side (the
+// measured point's tangential offset, on the turning piece's S_R), which left every glitch column
+// zero when they fell before the reversal; 1e-3 rad (0.12 mm on S_R) is far below the plan's
+// spacing and changes a glitch decaying over 2 deg or more by under 3 %.
+constexpr double kServoOnReversalRad = 1e-3;
+
+double ServoArcAngle(double a) {
+  a = Wrap2Pi(a);
+  return 2.0 * std::numbers::pi - a < kServoOnReversalRad ? 0.0 : a;
+}
+
 // Side-milled circles interpolated in machine X-Y: a triangular glitch (half-width 12 deg) after
 // each X (Y) reversal in the direction of travel, outward along that axis, projected on the
 // normal; and with lost motion (backlash: half-circle steps along X and Y).
@@ -129,13 +143,13 @@ void AddServoReversal(const ProcessPoints& p, CandidateCatalogue* out) {
     const auto& o = p.obs[static_cast<std::size_t>(i)];
     auto arc = testpieces::ArcTravelAt(*fc, o.cut.nominal_point_mm, p.mfp[static_cast<std::size_t>(i)]);
     if (!arc) continue;
-    const double alpha_p = Wrap2Pi(arc->direction * (arc->theta_rad - arc->theta_start_rad));
+    const double alpha_p = ServoArcAngle(arc->direction * (arc->theta_rad - arc->theta_start_rad));
     double last_alpha[2] = {-1, -1};
     double last_proj[2] = {0, 0};
     for (const auto& cr : crossings) {
-      const double alpha_c = Wrap2Pi(arc->direction * (cr.theta - arc->theta_start_rad));
-      if (alpha_c > alpha_p || alpha_c > arc->sweep_rad) continue;
-      const double phi = alpha_p - alpha_c;
+      const double alpha_c = ServoArcAngle(arc->direction * (cr.theta - arc->theta_start_rad));
+      if (alpha_c > alpha_p + kServoOnReversalRad || alpha_c > arc->sweep_rad) continue;
+      const double phi = std::max(0.0, alpha_p - alpha_c);
       const double proj = p.nm[static_cast<std::size_t>(i)].dot(cr.outward);
       const double tri = std::max(0.0, 1.0 - phi / half_width);
       spikes.J_dev_effect(i, cr.axis) += tri * proj;

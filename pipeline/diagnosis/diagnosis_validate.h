@@ -37,16 +37,23 @@
 // peak after the diagnosis's own (nonlinear) base fit: on the single cone the drifts are 2-3 %
 // visible by the linear projection at the nominal state, and scaled 30-50x the base fit absorbs
 // the rest (noise-free, an E_Y0C drift leaves 2.3 % of its RMS at 1 um but 0.13 % at 100 um).
+// With ValidationOptions::diagnose each trial's piece is diagnosed by that function instead (the
+// pipeline layer's diagnosis against an instrument test of the trial's cold machine,
+// pipeline/instrument_validation.h); the effects, their scaling and the table are the same.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/point_set.h"
 #include "core/status.h"
+#include "kinematics/error_state.h"
 #include "kinematics/machine_model.h"
+#include "pipeline/diagnosis/diagnosis.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
@@ -64,6 +71,14 @@ struct ValidationOptions {
   // smaller, often much smaller for effects the location errors nearly mimic).
   bool scale_raw_peak = false;
   double min_visible_fraction = 0.02;  // below: the trial is counted unobservable
+  // Empty: each piece is diagnosed against the fitted base model (Diagnose). Otherwise it is
+  // diagnosed by this function, given the trial's cold machine (its random base errors, without
+  // the withheld effect), the measured points and a seed drawn for the trial (for the
+  // reference's own noise). Its errors are counted as the verdict "error".
+  std::function<Result<DiagnosisResult>(const kinematics::ErrorState& cold, const PointSet& measured,
+                                        std::uint64_t seed)>
+      diagnose;
+  std::string reference_name;  // what `diagnose` compares with, for the table's text ("" = none)
   Status Validate() const;
 };
 
@@ -86,6 +101,9 @@ struct ValidationTrial {
   // The outlier screen against the injected points (outliers, local_defect; 0 otherwise).
   int injected_points = 0, found_points = 0, false_flags = 0, clean_points = 0;
   double seconds = 0.0;           // diagnosis time
+  double shrink_pct = 0.0, cv_shrink_pct = 0.0;  // the verdict's (0 for none)
+  // Against a reference (DiagnosisResult::reference_agreement): parameters compared and disagreeing.
+  int reference_compared = 0, reference_disagreeing = 0;
 };
 
 struct ValidationSummary {
@@ -96,7 +114,11 @@ struct ValidationSummary {
   std::map<std::string, double> top1_or_alias_rate;    // true family is the verdict or indistinguishable from it
   std::map<std::string, int> unobservable_trials;
   std::map<std::string, std::map<double, double>> top1_by_magnitude;  // family -> magnitude -> rate (observable)
-  double false_alarm_rate = 0.0;                       // verdict != none on effect-free pieces
+  // Verdict != none on effect-free pieces; against a reference also a disagreeing parameter.
+  double false_alarm_rate = 0.0;
+  int none_trials = 0, none_alarms = 0, none_disagreeing = 0;  // effect-free pieces: trials, alarms, disagreements
+  double median_cv_shrink_pct = 0.0;  // the verdict's cross-validated shrink, right verdicts (>= 5x, observable)
+  bool against_reference = false;     // the trials were diagnosed against a reference
   double median_cv_explained = 0.0;                    // magnitude >= 5, observable, effect present
   double median_press_explained = 0.0;                 // the same, leave-one-point-out figures
   std::map<std::string, int> verdict_cv_method;        // correct verdicts (>= 5x, observable) per cv_method

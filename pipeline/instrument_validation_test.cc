@@ -1,0 +1,82 @@
+// The validation against an instrument reference (issue 22) in small (fixed seed 22): the turning
+// piece on the nominal A/C table, random cold base errors (+-20 um / urad), each trial's cold
+// machine measured by a datum-ball test, the piece cut with one withheld effect at 10x the 0.5 um
+// CMM noise (peak of the part the base model cannot absorb) and diagnosed against the test.
+// Truth: the withheld family, none on effect-free pieces. Tolerances from the targets of issue 22:
+// false alarms <= 5 % (a verdict other than none, or a disagreeing parameter): with 20 trials a
+// true 5 % rate gives more than 2 alarms with probability 7.5 %, so the test allows 2 (measured
+// 0 of 100 tight and 2 of 100 loose on the CLI's larger run, README "Piece against instrument").
+// Tool deflection is named in every trial of the larger run, servo reversal in 98 % (a true
+// 98 % gives fewer than 17 of 20 with probability 0.06 %: the test asks 85 %); the withheld
+// drift's top-1 is not guarded here (65 % measured: tilt drifts, which the catalogue does not
+// drift, are named 1 of 35), the drift named as the verdict, beside it or as its alias is (100 %).
+#include "pipeline/instrument_validation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "pipeline/testing/turning_fixture.h"
+
+namespace tpcal::pipeline {
+namespace {
+
+ValidationOptions SmallInstrumentStudy(std::vector<std::string> families, int trials) {
+  ValidationOptions v;
+  v.families = std::move(families);
+  v.magnitudes = {10.0};
+  v.noise_um = {0.5};
+  v.trials = trials;
+  v.seed = 22;
+  return v;
+}
+
+int NoneAlarms(const ValidationSummary& s) {
+  return static_cast<int>(std::count_if(s.trials.begin(), s.trials.end(), [](const ValidationTrial& t) {
+    return t.true_family == "none" && (t.verdict != "none" || t.reference_disagreeing > 0);
+  }));
+}
+
+TEST(InstrumentValidation, TightDatumBallNamesTheEffectsAndRaisesNoAlarm) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  auto s = RunInstrumentValidation(setup, SmallInstrumentStudy({"tool_deflection", "servo_reversal", "thermal_drift", "none"}, 20),
+                                   {.instrument = "datum_ball", .noise_um = 0.5});
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  EXPECT_TRUE(s->against_reference);
+  for (const ValidationTrial& t : s->trials) {
+    EXPECT_NE(t.verdict, "error") << t.true_detail;
+    EXPECT_GE(t.reference_compared, 6) << t.true_family << ": the piece is compared with the instrument";
+  }
+  EXPECT_EQ(s->none_trials, 20);
+  EXPECT_LE(s->none_alarms, 2);
+  EXPECT_EQ(NoneAlarms(*s), s->none_alarms);
+  EXPECT_GE(s->top1_rate.at("tool_deflection"), 0.9);
+  EXPECT_GE(s->top1_rate.at("servo_reversal"), 0.85);
+  EXPECT_GE(s->top1_or_alias_rate.at("thermal_drift"), 0.9);
+  EXPECT_GT(s->median_cv_shrink_pct, 50.0);
+  const std::string md = ValidationMarkdown(*s);
+  EXPECT_NE(md.find("| location_errors |"), std::string::npos) << md;
+  EXPECT_NE(md.find("Against the reference: false alarms on effect-free pieces"), std::string::npos) << md;
+}
+
+// A loose instrument (20 um readings: its u lets the piece decide) raises no alarm either.
+TEST(InstrumentValidation, LooseDatumBallRaisesNoAlarm) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  auto s = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 20), {.instrument = "datum_ball", .noise_um = 20.0});
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  EXPECT_EQ(s->none_trials, 20);
+  EXPECT_LE(s->none_alarms, 2);
+}
+
+TEST(InstrumentValidation, UnknownInstrumentAndBadNoiseAreNamed) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  auto laser = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 1), {.instrument = "laser", .noise_um = 0.5});
+  ASSERT_FALSE(laser.ok());
+  EXPECT_NE(laser.status().message().find("expected datum_ball"), std::string::npos) << laser.status().ToString();
+  auto noise = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 1), {.instrument = "datum_ball", .noise_um = -1});
+  ASSERT_FALSE(noise.ok());
+  EXPECT_NE(noise.status().message().find("--reference-noise-um"), std::string::npos) << noise.status().ToString();
+}
+
+}  // namespace
+}  // namespace tpcal::pipeline
