@@ -270,8 +270,9 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
                     : kinematics::UpdateWithinPrior(setup.machine, prior->errors, prior->active, prior->u,
                                                     piece->observations.observations, sigma_um);
   if (!update.ok()) return update.status();
-  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured,
-                              IrDiagnosisOptions(options, ref, update->posterior));
+  DiagnosisOptions d_options = IrDiagnosisOptions(options, ref, update->posterior);
+  d_options.reference_free.assign(held.begin(), held.end());
+  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, d_options);
   if (!d.ok()) return d.status();
   agreement.instrument = ref.instrument;
   agreement.source = ref.source;

@@ -91,6 +91,9 @@ struct DiagnosisOptions {
   // parameters are not refitted (only the alignment), and a `location_errors` candidate (the
   // base set refitted) joins the catalogue.
   std::optional<kinematics::ErrorState> reference;
+  // With `reference`: these parameters (of the base set) are refitted on top of it, the rest
+  // held (e.g. those a piece and an instrument disagree on, reference_agreement.h).
+  std::vector<std::string> reference_free;
   std::string reference_name = "reference";     // for base_model in the report
   std::string reference_path;                   // the file of `reference`: errors it causes are located there
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict

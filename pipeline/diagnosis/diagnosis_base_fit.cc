@@ -93,7 +93,13 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
     if (!act.ok()) return act.status();
     fit.active = *act;
   }
-  fit.q_fit = reference_mode ? 0 : fit.active.size();
+  const bool free_on_reference = reference_mode && options.reference && !options.reference_free.empty();
+  if (free_on_reference) {
+    auto act = kinematics::ActivateParameters(machine, &fit.errors, options.reference_free);
+    if (!act.ok()) return act.status();
+    fit.active = *act;
+  }
+  fit.q_fit = reference_mode && !free_on_reference ? 0 : fit.active.size();
   if (n <= fit.q_fit + 6)
     return Status(StatusCode::kTooFewPoints, "diagnosis needs more than " + std::to_string(fit.q_fit + 6) +
                                                  " points for the base model, got " + std::to_string(n));
@@ -101,7 +107,8 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
   // candidate: the union of the slots both write.
   auto candidate_slots = CandidateSlots(piece, machine, fit.errors, base_names, reference_mode);
   if (!candidate_slots.ok()) return candidate_slots.status();
-  const std::vector<int> base_coefficients = reference_mode ? std::vector<int>{} : fit.active.coefficients;
+  const std::vector<int> base_coefficients =
+      reference_mode && !free_on_reference ? std::vector<int>{} : fit.active.coefficients;
   int passes = 1;
   for (int pass = 0; pass < passes; ++pass) {
     const auto slots = DiagnosisSlotUnion(fit.errors, base_coefficients, *candidate_slots);
