@@ -159,7 +159,9 @@ std::string UpdateNote(const Prior& prior, const kinematics::PriorUpdate& up, co
                         up.delta[worst], info.unit);
   }
   if (!held.empty())
-    note += fmt::format(" as measured (the piece disagrees on {}: the gap is what differs)", fmt::join(held, ", "));
+    note += fmt::format(" as measured, except {}, on which the piece disagrees: refitted on top of them (the gap "
+                        "with them held is reference_held_rms_um), the candidates explain what is left",
+                        fmt::join(held, ", "));
   return note;
 }
 
@@ -260,8 +262,10 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
                                                       piece->identification.identifiability, options.alpha);
   const std::set<std::string> held = DisagreeingParameters(agreement, ref.parameters);
   // Where the two agree, the piece refines the instrument within its u (a loose instrument cannot
-  // raise an alarm); where they disagree, the instrument is the cold machine as measured and the
-  // piece's departure from it is what the diagnosis explains (an update would absorb part of it).
+  // raise an alarm); where they disagree, the instrument is the cold machine as measured (an update
+  // would absorb part of the departure), and those parameters are refitted on top of it: a drift
+  // of a tilt leaves its mean there as changed location errors, and only what remains is the
+  // effect's own signature for the catalogue.
   auto prior = InstrumentPrior(setup.machine, ref.parameters, !held.empty());
   if (!prior.ok()) return prior.status();
   const double sigma_um = options.noise_um > 0.0 ? options.noise_um : std::max(piece->identification.sigma_um, 1e-3);

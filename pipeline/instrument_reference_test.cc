@@ -16,6 +16,7 @@
 #include <fstream>
 #include <cstdio>
 #include <random>
+#include <set>
 
 #include "kinematics/datum_ball.h"
 #include "kinematics/error_parameters.h"
@@ -106,6 +107,33 @@ TEST(InstrumentReference, DriftWithheldFromTheInstrumentIsNamed) {
   EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
 }
 
+// A drift of the C line's tilt (E_B0C, 20 urad, tau 1500 s) withheld from the instrument: its mean
+// over the machining time makes parameters disagree. They are refitted on top of the instrument
+// (named in the base model, the gap with everything held kept beside), and the tilt drift
+// candidate names what is left. Held, this piece read linear_straightness (README).
+TEST(InstrumentReference, TiltDriftIsNamedBeyondTheDisagreeingParameters) {
+  const std::string tilt = "effects:\n  - thermal_drift:\n      parameter: E_B0C\n      K_urad: 20\n      tau_s: 1500\n";
+  auto d = AgainstBall(CutPiece(std::string(kColdErrors) + tilt, 9), WriteBallpos(0.5, 13));
+  ASSERT_TRUE(d.ok()) << d.status().ToString();
+  ASSERT_GT(d->reference_agreement->disagreeing, 0);
+  std::set<std::string> disagreeing;
+  for (const AgreementRow& r : d->reference_agreement->rows)
+    if (!r.agree) disagreeing.insert(r.members.begin(), r.members.end());
+  ASSERT_FALSE(d->base_parameters.empty());
+  EXPECT_NE(d->base_model.find("refitted"), std::string::npos) << d->base_model;
+  for (const auto& p : d->base_parameters) {
+    EXPECT_TRUE(disagreeing.count(p.name)) << p.name;
+    EXPECT_NE(d->base_model.find(p.name), std::string::npos) << d->base_model;
+  }
+  ASSERT_TRUE(d->reference_held_rms_um.has_value());
+  EXPECT_GT(*d->reference_held_rms_um, d->rms_um);
+  EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
+  auto cold = AgainstBall(CutPiece(kColdErrors, 7), WriteBallpos(0.5, 11));
+  ASSERT_TRUE(cold.ok()) << cold.status().ToString();
+  EXPECT_FALSE(cold->reference_held_rms_um.has_value());  // nothing disagrees: nothing refitted
+  EXPECT_TRUE(cold->base_parameters.empty());
+}
+
 TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
   auto bad = DiagnoseAgainstInstrument(setup, PointSet{}, {.path = "x.csv", .instrument = "laser", .setup_path = "", .machine_path = ""}, {});
@@ -157,10 +185,10 @@ TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) 
 // several times the 0.5 um noise). Targets of issue 22: the drift named (top-1) in >= 90 % of the
 // trials, false alarms (verdict not none, or a parameter disagreeing, on a cold piece) <= 5 %.
 // With 30 trials a true 5 % rate gives more than 3 alarms with probability 6 %: the test allows 3.
-// Measured: false alarms 0/30 (tight) and 1/30 (loose: unexplained); the drift named 26/30: the
-// four others (tau 699 to 765 s) go to linear_straightness, whose quartic fits a short-tau
-// exponential better than the catalogue's one exponential (tau = 1487 s on this piece). The 90 %
-// target is not met; the test guards the measured rate (>= 24 of 30: 80 %).
+// Measured: false alarms 0/30 (tight) and 1/30 (loose: unexplained); the drift named 30/30 (the
+// parameters the piece disagrees on refitted on top of the instrument; held, 26/30: the mean of
+// a short-tau drift stayed in the gap and linear_straightness's quartic fitted it better). The
+// test asks for the 90 % target, 27 of 30.
 TEST(InstrumentReference, StudyOfFalseAlarmsAndAWithheldDrift) {
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> base(-20.0, 20.0), k_um(4.0, 12.0), tau_s(600.0, 2400.0);
@@ -187,7 +215,7 @@ TEST(InstrumentReference, StudyOfFalseAlarmsAndAWithheldDrift) {
   }
   std::printf("instrument study: drift named %d/%d, false alarms tight %d/%d, loose %d/%d\n", drift_named, trials,
               tight_alarms, trials, loose_alarms, trials);
-  EXPECT_GE(drift_named, 24);
+  EXPECT_GE(drift_named, 27);
   EXPECT_LE(tight_alarms, 3);
   EXPECT_LE(loose_alarms, 3);
 }

@@ -91,8 +91,8 @@ struct DiagnosisOptions {
   // parameters are not refitted (only the alignment), and a `location_errors` candidate (the
   // base set refitted) joins the catalogue.
   std::optional<kinematics::ErrorState> reference;
-  // With `reference`: these parameters (of the base set) are refitted on top of it, the rest
-  // held (e.g. those a piece and an instrument disagree on, reference_agreement.h).
+  // With `reference`: these parameters are refitted on top of it, the rest held (those a piece
+  // and an instrument disagree on, reference_agreement.h); the gap with all held is kept too.
   std::vector<std::string> reference_free;
   std::string reference_name = "reference";     // for base_model in the report
   std::string reference_path;                   // the file of `reference`: errors it causes are located there
@@ -251,6 +251,9 @@ struct DiagnosisResult {
   int n_points = 0;
   int base_columns = 0;        // identifiable base directions + alignment
   double rms_um = 0.0, max_abs_um = 0.0;   // the gap
+  // With DiagnosisOptions::reference_free: RMS of the gap with the reference held entirely (only
+  // the re-alignment fitted), before the parameters it disagrees on are refitted (um).
+  std::optional<double> reference_held_rms_um;
   double noise_sigma_um = 0.0;             // sigma used for "beyond noise" (given or estimated)
   // Leave-one-feature-out of the base fit: RMS over the features that can be held out, and those
   // that cannot (their points alone determine a direction of the base model and re-alignment).

@@ -1,7 +1,9 @@
 #include "pipeline/diagnosis/diagnosis_base_fit.h"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "kinematics/errors_yaml.h"
@@ -72,6 +74,15 @@ void MoveToFittedBase(BaseFit* fit) {
   }
 }
 
+// " (fixed machine errors, re-alignment fitted)", or with parameters refitted on the reference
+// " (fixed machine errors except E_X0C, E_A0C refitted; re-alignment fitted)".
+std::string ReferenceHeld(const BaseFit& fit, const DiagnosisOptions& options) {
+  if (fit.q_fit == 0 || options.reference_free.empty()) return " (fixed machine errors, re-alignment fitted)";
+  std::string names;
+  for (const auto& n : options.reference_free) names += (names.empty() ? "" : ", ") + n;
+  return " (fixed machine errors except " + names + " refitted; re-alignment fitted)";
+}
+
 }  // namespace
 
 std::vector<kinematics::ErrorSlot> DiagnosisSlotUnion(const kinematics::ErrorState& errors,
@@ -120,6 +131,11 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
     if (pass == 0 && !reference_mode && NeedsSecondPass(fit)) passes = 2;
     if (pass + 1 < passes) MoveToFittedBase(&fit);
   }
+  if (free_on_reference) {
+    const Eigen::MatrixXd& a = fit.design->lin.J_dev_alignment;
+    const Eigen::VectorXd held = fit.y - a * a.colPivHouseholderQr().solve(fit.y);
+    fit.held_rms_um = Rms(held);
+  }
   // After the second pass fit.coef holds the correction at the fitted point: total = fitted + correction.
   return fit;
 }
@@ -127,11 +143,12 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
 void DescribeBaseModel(const BaseFit& fit, const DiagnosisOptions& options, bool point_reference, bool reference_mode,
                        DiagnosisResult* out) {
   out->n_points = static_cast<int>(fit.y.size());
+  out->reference_held_rms_um = fit.held_rms_um;
   out->base_columns = fit.basis.rank;
   out->base_model = point_reference
                         ? options.reference_name + " (reference point file: measured minus reference point by point, "
                                                    "re-alignment fitted)"
-                    : reference_mode ? options.reference_name + " (fixed machine errors, re-alignment fitted)"
+                    : reference_mode ? options.reference_name + ReferenceHeld(fit, options)
                                      : "location errors and squareness (" + std::to_string(fit.q_fit) +
                                            " parameters) + re-alignment, fitted";
   for (int k = 0; k < fit.q_fit; ++k) {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -38,6 +39,7 @@ struct BaseFit {
   Eigen::VectorXd y;               // per point: measured - predicted deviation (- the reference's), um
   Eigen::VectorXd coef, u;         // fitted correction at `errors` and its uncertainty, per design column
   std::vector<bool> identifiable;  // per design column
+  std::optional<double> held_rms_um;  // with reference_free: RMS of y with only the re-alignment fitted
   // The last linearisation (it holds every machine-error candidate's slots): the caller's
   // nominal one (DiagnosisOptions::nominal_slot_design) or one made here.
   std::shared_ptr<const kinematics::SlotDesign> design;

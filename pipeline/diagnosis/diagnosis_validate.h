@@ -102,6 +102,9 @@ struct ValidationTrial {
   int injected_points = 0, found_points = 0, false_flags = 0, clean_points = 0;
   double seconds = 0.0;           // diagnosis time
   double shrink_pct = 0.0, cv_shrink_pct = 0.0;  // the verdict's (0 for none)
+  // In-sample shrink of the gap against the reference held entirely (reference_held_rms_um; the
+  // plain gap when nothing was refitted) by the refitted parameters and the verdict together.
+  double held_shrink_pct = 0.0;
   // Against a reference (DiagnosisResult::reference_agreement): parameters compared and disagreeing.
   int reference_compared = 0, reference_disagreeing = 0;
 };
@@ -118,6 +121,7 @@ struct ValidationSummary {
   double false_alarm_rate = 0.0;
   int none_trials = 0, none_alarms = 0, none_disagreeing = 0;  // effect-free pieces: trials, alarms, disagreements
   double median_cv_shrink_pct = 0.0;  // the verdict's cross-validated shrink, right verdicts (>= 5x, observable)
+  double median_held_shrink_pct = 0.0;  // the same verdicts' held_shrink_pct
   bool against_reference = false;     // the trials were diagnosed against a reference
   double median_cv_explained = 0.0;                    // magnitude >= 5, observable, effect present
   double median_press_explained = 0.0;                 // the same, leave-one-point-out figures

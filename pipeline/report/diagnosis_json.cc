@@ -47,6 +47,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   j["base_model"] = r.base_model;
   json gap;
   gap["rms_um"] = r.rms_um;
+  if (r.reference_held_rms_um) gap["reference_held_rms_um"] = *r.reference_held_rms_um;
   gap["max_abs_um"] = r.max_abs_um;
   gap["n_points"] = r.n_points;
   gap["by_feature"] = GroupsJson(r.by_feature, "feature");
@@ -165,6 +166,10 @@ std::string DiagnosisText(const DiagnosisResult& r) {
   o += fmt::format("gap: rms {:.3f} um, max |gap| {:.3f} um over {} points; noise sigma {:.3f} um; "
                    "drift with time {:+.3f} +- {:.3f} um/h\n",
                    r.rms_um, r.max_abs_um, r.n_points, r.noise_sigma_um, r.drift_um_per_h, r.drift_u_um_per_h);
+  if (r.reference_held_rms_um)
+    o += fmt::format("gap with the reference held entirely (re-alignment only): rms {:.3f} um; the parameters the piece "
+                     "disagrees on, refitted, take it to {:.3f} um\n",
+                     *r.reference_held_rms_um, r.rms_um);
   if (r.reference_match)
     o += fmt::format("reference points matched: {} by order within their feature, {} by nearest nominal position "
                      "(largest offset {:.3f} mm), {} measured point(s) without a reference point\n",
