@@ -36,7 +36,8 @@ std::string AxisString(Axis a) {
 }
 
 // thermal_drift: with rotary axes, linear and exponential drift of the workpiece-branch
-// translations (and the last rotary axis' line); without, linear drift of the squareness.
+// translations (and the last rotary axis' line) and, with two, linear drift of the last one's
+// tilt and of Z's squareness; without, linear drift of the squareness.
 void ThermalDriftSpecs(const std::vector<Axis>& rotary, double duration_s, std::vector<MachineSpec>* specs) {
   if (!rotary.empty()) {
     std::vector<std::string> params;
@@ -57,6 +58,13 @@ void ThermalDriftSpecs(const std::vector<Axis>& rotary, double duration_s, std::
     }
     specs->push_back(lin);
     specs->push_back(ex);
+    if (rotary.size() > 1) {  // spindle and column heat tilt the table's line against the Z column
+      const std::string last = AxisString(rotary.back());
+      MachineSpec tilt{"thermal_drift", "linear drift of the " + last + " line's tilt and of Z's squareness with machining time", {}};
+      for (const std::string& p : {"E_A0" + last, "E_B0" + last, std::string("E_B(0X)Z"), std::string("E_A(0Y)Z")})
+        tilt.items.push_back("{thermal_drift: {parameter: " + p + ", rate_urad_per_h: 0}}");
+      specs->push_back(tilt);
+    }
   } else {
     MachineSpec sq{"thermal_drift", "linear drift of the squareness of X, Y, Z with machining time", {}};
     for (const char* p : {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"})
