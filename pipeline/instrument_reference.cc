@@ -23,21 +23,6 @@
 namespace tpcal::pipeline {
 namespace {
 
-// A tpcal.identification/1 file: its parameters as they were identified.
-Result<InstrumentReference> IrReadIdentified(const std::string& path) {
-  auto file = ReadIdentificationJson(path);
-  if (!file.ok()) return file.status();
-  InstrumentReference out;
-  out.instrument = file->instrument.empty() ? "identification" : file->instrument;
-  out.machine_type = file->machine;
-  for (const IdentifiedParameter& p : file->parameters) {
-    kinematics::ParameterEstimate e;
-    e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
-    out.parameters.push_back(std::move(e));
-  }
-  return out;
-}
-
 Status IrCheckMachine(const LoadedPiece& setup, const InstrumentReference& ref, const std::string& path) {
   if (ref.machine_type == kinematics::MachineTypeName(setup.machine.type)) return Status::Ok();
   return Status(StatusCode::kInvalidArgument,
@@ -55,6 +40,30 @@ Status IrSetMaps(const LoadedPiece& setup, const std::string& errors_yaml, const
   if (!maps.ok()) return maps.status();
   out->maps = std::move(*maps);
   return Status::Ok();
+}
+
+// A tpcal.identification/1 file: its parameters as they were identified, or an error-map
+// instrument's maps (its "errors_yaml", on the piece's machine).
+Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std::string& path) {
+  auto file = ReadIdentificationJson(path);
+  if (!file.ok()) return file.status();
+  InstrumentReference out;
+  out.instrument = file->instrument.empty() ? "identification" : file->instrument;
+  out.machine_type = file->machine;
+  if (!file->errors_yaml.empty()) {
+    out.map_entries = file->map_entries;
+    out.not_identifiable = file->not_identifiable;
+    out.not_separable = file->not_separable;
+    TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, out, path));
+    TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, file->errors_yaml, path + " (its errors_yaml)", &out));
+    return out;
+  }
+  for (const IdentifiedParameter& p : file->parameters) {
+    kinematics::ParameterEstimate e;
+    e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
+    out.parameters.push_back(std::move(e));
+  }
+  return out;
 }
 
 Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
@@ -94,7 +103,7 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
 }
 
 Result<InstrumentReference> IrIdentify(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
-  if (IsIdentificationReference(r.path)) return IrReadIdentified(r.path);
+  if (IsIdentificationReference(r.path)) return IrReadIdentified(setup, r.path);
   if (!IsReferenceInstrument(r.instrument))
     return Status(StatusCode::kInvalidArgument,
                   "--reference-instrument '" + r.instrument + "': expected " + kReferenceInstruments);

@@ -25,8 +25,12 @@
 #include "kinematics/machine_yaml.h"
 #include "kinematics/probe_artifacts.h"
 #include "pipeline/ballbar_simulate_stage.h"
+#include "pipeline/ballbar_stage.h"
 #include "pipeline/instrument_reference.h"
 #include "pipeline/probe_artifacts_simulate_stage.h"
+#include "pipeline/probe_artifacts_stage.h"
+#include "pipeline/report/ballbar_report.h"
+#include "pipeline/report/probe_artifacts_report.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
@@ -172,6 +176,51 @@ TEST(InstrumentReferenceMaps, BallbarOnTheAcTableLacksTheLocationErrors) {
   EXPECT_NE(d->reference_agreement->reference_note.find("no component along what its installations cannot separate"),
             std::string::npos) << d->reference_agreement->reference_note;
   EXPECT_EQ(d->verdict.family, "location_errors") << DiagnosisText(*d);
+  // The ball bar's identification JSON (tpcal identify --instrument ballbar --json) as the reference.
+  auto report = RunBallbarStage({.path = (dir / "bb.csv").string(),
+                                 .setup_path = (dir / "ac_setup.yaml").string(),
+                                 .machine_path = (dir / "ac_table.yaml").string()});
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  std::ofstream(dir / "bb.json") << BallbarJson(*report);
+  auto js = DiagnoseAgainstInstrument(loaded, MapsPiece(kMapsCold, 24),
+                                      {.path = (dir / "bb.json").string(), .instrument = "", .setup_path = "", .machine_path = ""}, {});
+  ASSERT_TRUE(js.ok()) << js.status().ToString();
+  EXPECT_EQ(js->reference_agreement->instrument, "ballbar");
+  EXPECT_EQ(js->reference_agreement->reference_note, d->reference_agreement->reference_note);
+  EXPECT_NEAR(js->rms_um, d->rms_um, 1e-9);
+  EXPECT_EQ(js->verdict.family, d->verdict.family);
+}
+
+// The probing test's identification JSON (tpcal identify --instrument probe_artifacts --json) is
+// the same reference as its raw file: its "errors_yaml" holds the maps as --errors-out writes
+// them (values to the printed precision, so the gaps agree to well below a nanometre).
+TEST(InstrumentReferenceMaps, IdentificationJsonIsTheSameReferenceAsTheRawFile) {
+  const std::string probepts = WriteProbepts(0.05, 31);
+  ProbeArtifactsRequest request;
+  request.path = probepts;
+  auto report = RunProbeArtifactsStage(request);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  const auto json_path = MapsTestDir() / "probe.json";
+  std::ofstream(json_path) << ProbeArtifactsJson(*report);
+  const PointSet piece = MapsPiece(kMapsCold, 21);
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  auto raw = AgainstProbe(piece, probepts);
+  auto js = DiagnoseAgainstInstrument(setup, piece, {.path = json_path.string(), .instrument = "", .setup_path = "", .machine_path = ""}, {});
+  ASSERT_TRUE(raw.ok() && js.ok()) << js.status().ToString();
+  EXPECT_EQ(js->reference_agreement->instrument, "probe_artifacts");
+  EXPECT_EQ(js->reference_agreement->reference_note, raw->reference_agreement->reference_note);
+  EXPECT_NEAR(js->rms_um, raw->rms_um, 1e-6);
+  EXPECT_EQ(js->verdict.family, "none") << DiagnosisText(*js);
+  // A map file for another machine type is named as such.
+  std::string text = ProbeArtifactsJson(*report);
+  const std::string ac = "\"machine\": \"ac_table\"";
+  ASSERT_NE(text.find(ac), std::string::npos);
+  text.replace(text.find(ac), ac.size(), "\"machine\": \"bc_table\"");
+  std::ofstream(MapsTestDir() / "probe_bc.json") << text;
+  auto bad = DiagnoseAgainstInstrument(setup, piece, {.path = (MapsTestDir() / "probe_bc.json").string(), .instrument = "", .setup_path = "", .machine_path = ""}, {});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().ToString().find("probe_bc.json: a probe_artifacts of a bc_table machine"), std::string::npos)
+      << bad.status().ToString();
 }
 
 // A disagreeing row names its parameters exactly: E_X0C is not a member of a row about

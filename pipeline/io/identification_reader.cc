@@ -73,6 +73,31 @@ Result<IdentifiedParameter> ParameterOf(const json& p, std::size_t i, const std:
   return out;
 }
 
+std::vector<std::string> StringsOf(const json& j, const char* key, const std::string& prefix = "") {
+  std::vector<std::string> out;
+  auto it = j.find(key);
+  if (it == j.end() || !it->is_array()) return out;
+  for (const json& s : *it)
+    if (s.is_string()) out.push_back(prefix + s.get<std::string>());
+  return out;
+}
+
+// The error-map fields of a probe_artifacts ("maps", "not_identifiable") or ballbar ("axes[]":
+// "errors", "not_identifiable", "not_separable") file; the maps themselves are in "errors_yaml".
+void ReadMapFields(const json& doc, IdentificationFile* out) {
+  out->errors_yaml = doc["errors_yaml"].get<std::string>();
+  if (doc.contains("maps") && doc["maps"].is_array()) out->map_entries = static_cast<int>(doc["maps"].size());
+  out->not_identifiable = StringsOf(doc, "not_identifiable");
+  if (!doc.contains("axes") || !doc["axes"].is_array()) return;
+  for (const json& a : doc["axes"]) {
+    if (!a.is_object()) continue;
+    if (a.contains("errors") && a["errors"].is_array()) out->map_entries += static_cast<int>(a["errors"].size());
+    for (auto& n : StringsOf(a, "not_identifiable")) out->not_identifiable.push_back(std::move(n));
+    const std::string axis = StringOr(a, "axis");
+    for (auto& f : StringsOf(a, "not_separable", axis + ": ")) out->not_separable.push_back(std::move(f));
+  }
+}
+
 }  // namespace
 
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source) {
@@ -89,12 +114,17 @@ Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const 
   }
   if (!doc.is_object() || StringOr(doc, "schema") != "tpcal.identification/1")
     return IdParseError(source, "expected \"schema\": \"tpcal.identification/1\"");
-  if (!doc.contains("parameters") || !doc["parameters"].is_array())
-    return IdParseError(source, "expected a \"parameters\" array");
+  const bool maps = doc.contains("errors_yaml") && doc["errors_yaml"].is_string();
+  if (!maps && (!doc.contains("parameters") || !doc["parameters"].is_array()))
+    return IdParseError(source, "expected a \"parameters\" array (or an error-map instrument's \"errors_yaml\")");
   IdentificationFile out;
   out.source = source;
   out.instrument = StringOr(doc, "instrument");
   out.machine = StringOr(doc, "machine");
+  if (maps) {
+    ReadMapFields(doc, &out);
+    return out;
+  }
   const json& params = doc["parameters"];
   for (std::size_t i = 0; i < params.size(); ++i) {
     auto p = ParameterOf(params[i], i, source);

@@ -23,10 +23,17 @@ struct IdentificationFile {
   std::string instrument;  // "" for a test piece's identification
   std::string machine;     // machine type name ("ac_table", ...), "" if absent
   std::vector<IdentifiedParameter> parameters;
+  // An error-map instrument's file (probe_artifacts, ballbar): its maps as one tpcal.errors/1
+  // document ("errors_yaml"), the number of map entries, those without a number and (ball bar)
+  // the families its installations cannot separate ("C: ..."). Empty for a parameter file.
+  std::string errors_yaml;
+  int map_entries = 0;
+  std::vector<std::string> not_identifiable, not_separable;
 };
 
 // Errors (kParseError naming `source`): not JSON (with the line of the fault), a schema other
-// than tpcal.identification/1, no "parameters" array, a parameter without a string "name" or
+// than tpcal.identification/1, neither a "parameters" array nor an "errors_yaml" string (an
+// error-map instrument's), a parameter without a string "name" or
 // "unit" or a boolean "identifiable", an identifiable one whose "value" or "u" is not a finite
 // number (u >= 0) — located as parameters[i] ("name").
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);

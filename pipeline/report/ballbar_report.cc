@@ -181,6 +181,7 @@ std::string BallbarJson(const BallbarReport& report) {
   BbJson circles = BbJson::array();
   for (const auto& c : report.circles) circles.push_back(BbCircleJson(c));
   j["circles"] = std::move(circles);
+  j["errors_yaml"] = report.errors_yaml.empty() ? BbJson(nullptr) : BbJson(report.errors_yaml);
   return j.dump(2) + "\n";
 }
 

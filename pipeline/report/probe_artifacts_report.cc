@@ -444,6 +444,7 @@ std::string ProbeArtifactsJson(const ProbeArtifactsReport& report) {
   for (std::size_t i = 0; i < r.poses.residuals_um.size(); ++i)
     res.push_back({{"line", i < report.lines.size() ? report.lines[i] : 0}, {"residual_um", r.poses.residuals_um[i]}});
   j["residuals"] = std::move(res);
+  j["errors_yaml"] = report.errors_yaml;
   return j.dump(2) + "\n";
 }
 
