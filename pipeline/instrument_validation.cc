@@ -7,10 +7,12 @@
 #include <filesystem>
 #include <system_error>
 
+#include "kinematics/probe_artifacts.h"
 #include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/diagnose_stage.h"
 #include "pipeline/instrument_reference.h"
 #include "pipeline/io/atomic_file.h"
+#include "pipeline/probe_artifacts_simulate_stage.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -38,6 +40,20 @@ Status WriteColdBallTest(const LoadedPiece& setup, const kinematics::ErrorState&
   return WriteFileAtomic(path, sim->csv);
 }
 
+// The probing test of seed 000's artifacts on the cold machine (seed 000's A positions, C every
+// 15 deg: the maps' nodes then lie within 15 deg of every C the piece is cut at), written to `path`.
+Status WriteColdProbingTest(const LoadedPiece& setup, const kinematics::ErrorState& cold, double noise_um,
+                            std::uint64_t seed, const std::string& path) {
+  ProbeArtifactsSimRequest request;
+  request.plan.c_step_deg = 15.0;
+  request.noise_um = noise_um;
+  request.seed = seed;
+  request.output_path = path;
+  auto sim = SimulateProbeArtifacts(setup.machine, cold, kinematics::Seed000Artifacts(), request);
+  if (!sim.ok()) return sim.status();
+  return WriteFileAtomic(path, sim->csv);
+}
+
 std::string InstrumentReferenceName(const InstrumentValidationOptions& instrument) {
   return fmt::format("{} test of the cold machine (noise {:g} um)", instrument.instrument, instrument.noise_um);
 }
@@ -46,9 +62,10 @@ std::string InstrumentReferenceName(const InstrumentValidationOptions& instrumen
 
 Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, ValidationOptions options,
                                                   const InstrumentValidationOptions& instrument) {
-  if (instrument.instrument != "datum_ball")  // the one instrument whose test is simulated here
-    return Status(StatusCode::kInvalidArgument,
-                  "--validate --reference-instrument " + instrument.instrument + ": expected datum_ball");
+  const bool ball = instrument.instrument == "datum_ball";
+  if (!ball && instrument.instrument != "probe_artifacts")  // the two whose tests are simulated here
+    return Status(StatusCode::kInvalidArgument, "--validate --reference-instrument " + instrument.instrument +
+                                                    ": expected datum_ball or probe_artifacts");
   if (!(instrument.noise_um >= 0) || !std::isfinite(instrument.noise_um))
     return Status(StatusCode::kInvalidArgument, "--reference-noise-um must be a finite number >= 0 (um)");
   InstrumentScratchDir dir;
@@ -56,13 +73,14 @@ Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, Vali
   std::error_code ec;
   std::filesystem::create_directories(dir.path, ec);
   if (ec) return Status(StatusCode::kIoError, "cannot create " + dir.path.string() + ": " + ec.message());
-  const std::string ballpos = (dir.path / "ballpos.csv").string();
+  const std::string file = (dir.path / (ball ? "ballpos.csv" : "probepts.csv")).string();
   options.reference_name = InstrumentReferenceName(instrument);
   options.diagnose = [&](const kinematics::ErrorState& cold, const PointSet& measured,
                          std::uint64_t seed) -> Result<DiagnosisResult> {
-    TPCAL_RETURN_IF_ERROR(WriteColdBallTest(setup, cold, instrument.noise_um, seed, ballpos));
+    TPCAL_RETURN_IF_ERROR(ball ? WriteColdBallTest(setup, cold, instrument.noise_um, seed, file)
+                               : WriteColdProbingTest(setup, cold, instrument.noise_um, seed, file));
     const InstrumentReferenceRequest request{
-        .path = ballpos, .instrument = instrument.instrument, .setup_path = "", .machine_path = ""};
+        .path = file, .instrument = instrument.instrument, .setup_path = "", .machine_path = ""};
     return DiagnoseAgainstInstrument(setup, measured, request, DiagnosisOptions{});
   };
   return RunValidation(setup.piece, setup.machine, options);

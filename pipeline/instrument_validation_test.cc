@@ -6,10 +6,9 @@
 // false alarms <= 5 % (a verdict other than none, or a disagreeing parameter): with 20 trials a
 // true 5 % rate gives more than 2 alarms with probability 7.5 %, so the test allows 2 (measured
 // 0 of 100 tight and 2 of 100 loose on the CLI's larger run, README "Piece against instrument").
-// Tool deflection is named in every trial of the larger run, servo reversal in 98 % (a true
-// 98 % gives fewer than 17 of 20 with probability 0.06 %: the test asks 85 %); the withheld
-// drift's top-1 is not guarded here (65 % measured: tilt drifts, which the catalogue does not
-// drift, are named 1 of 35), the drift named as the verdict, beside it or as its alias is (100 %).
+// Tool deflection is named in 98 % of the larger run, servo reversal in 98 % and the withheld
+// drift in 96 % (100 % at 10x; a true 96 % gives fewer than 17 of 20 with probability 0.7 %: the
+// test asks 85 % of each), the drift named as the verdict or as its alias in 100 %.
 #include "pipeline/instrument_validation.h"
 
 #include <gtest/gtest.h>
@@ -52,6 +51,7 @@ TEST(InstrumentValidation, TightDatumBallNamesTheEffectsAndRaisesNoAlarm) {
   EXPECT_EQ(NoneAlarms(*s), s->none_alarms);
   EXPECT_GE(s->top1_rate.at("tool_deflection"), 0.9);
   EXPECT_GE(s->top1_rate.at("servo_reversal"), 0.85);
+  EXPECT_GE(s->top1_rate.at("thermal_drift"), 0.85);
   EXPECT_GE(s->top1_or_alias_rate.at("thermal_drift"), 0.9);
   EXPECT_GT(s->median_cv_shrink_pct, 50.0);
   const std::string md = ValidationMarkdown(*s);
@@ -68,11 +68,28 @@ TEST(InstrumentValidation, LooseDatumBallRaisesNoAlarm) {
   EXPECT_LE(s->none_alarms, 2);
 }
 
+// Against a probing test of artifacts (0.05 um touches, C every 15 deg): every trial is diagnosed
+// against the maps (nothing compared parameter by parameter, no trial fails). Truth measured on the
+// CLI's run (README): the validation's cold machines carry location and squareness errors the
+// maps do not hold, and every effect-free piece reads location_errors; the test guards that the
+// verdict says so (location_errors, not a catalogue effect) rather than a rate.
+TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  auto s = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 2), {.instrument = "probe_artifacts", .noise_um = 0.05});
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  ASSERT_EQ(s->trials.size(), 2u);
+  for (const ValidationTrial& t : s->trials) {
+    EXPECT_EQ(t.reference_compared, 0) << t.true_detail;
+    EXPECT_EQ(t.verdict, "location_errors") << t.true_detail;
+  }
+}
+
 TEST(InstrumentValidation, UnknownInstrumentAndBadNoiseAreNamed) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
   auto laser = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 1), {.instrument = "laser", .noise_um = 0.5});
   ASSERT_FALSE(laser.ok());
-  EXPECT_NE(laser.status().message().find("expected datum_ball"), std::string::npos) << laser.status().ToString();
+  EXPECT_NE(laser.status().message().find("expected datum_ball or probe_artifacts"), std::string::npos)
+      << laser.status().ToString();
   auto noise = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 1), {.instrument = "datum_ball", .noise_um = -1});
   ASSERT_FALSE(noise.ok());
   EXPECT_NE(noise.status().message().find("--reference-noise-um"), std::string::npos) << noise.status().ToString();

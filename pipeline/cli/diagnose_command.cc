@@ -3,7 +3,7 @@
 //                 [--anchor FEATURE@X,Y,Z] [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
-//                 [--reference-instrument datum_ball [--reference-noise-um U]]
+//                 [--reference-instrument datum_ball|probe_artifacts [--reference-noise-um U]]
 #include <CLI/CLI.hpp>
 
 #include <memory>

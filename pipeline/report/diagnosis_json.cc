@@ -167,8 +167,8 @@ std::string DiagnosisText(const DiagnosisResult& r) {
                    "drift with time {:+.3f} +- {:.3f} um/h\n",
                    r.rms_um, r.max_abs_um, r.n_points, r.noise_sigma_um, r.drift_um_per_h, r.drift_u_um_per_h);
   if (r.reference_held_rms_um)
-    o += fmt::format("gap with the reference held entirely (re-alignment only): rms {:.3f} um; the parameters the piece "
-                     "disagrees on, refitted, take it to {:.3f} um\n",
+    o += fmt::format("gap with the reference held entirely (re-alignment only): rms {:.3f} um; the parameters refitted "
+                     "on top of it (base model) take it to {:.3f} um\n",
                      *r.reference_held_rms_um, r.rms_um);
   if (r.reference_match)
     o += fmt::format("reference points matched: {} by order within their feature, {} by nearest nominal position "
