@@ -1,8 +1,9 @@
-// tests/data/dmis/ and tests/data/qif/turning_sample.qif hold samples/turning/cmm_points.csv in
-// the CMM formats: read through the dispatch they give the CSV's points bit for bit, and the QIF
+// tests/data/dmis/, tests/data/tables/ and tests/data/qif/turning_sample.qif hold
+// samples/turning/cmm_points.csv in the CMM formats and other software's tables: read through the dispatch they give the CSV's points bit for bit, and the QIF
 // file is what FormatPointQif writes today. When the sample changes on purpose, regenerate the
 // QIF file with TPCAL_REGENERATE_SAMPLES=1 (this test then writes it) and the DMIS and XYZIJK
-// files with tests/data/dmis/regenerate.py (their number text is the CSV's, copied).
+// files with tests/data/dmis/regenerate.py, the tables with tests/data/tables/regenerate.py (their
+// number text is the CSV's, copied).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -17,7 +18,7 @@ namespace {
 
 std::string SourcePath(const std::string& rel) { return std::string(TPCAL_SOURCE_DIR) + "/" + rel; }
 
-TEST(CmmSamples, DmisQifAndXyzijkHoldTheTurningSample) {
+TEST(CmmSamples, DmisQifXyzijkAndTablesHoldTheTurningSample) {
   auto csv = ReadPointFile(SourcePath("samples/turning/cmm_points.csv"));
   ASSERT_TRUE(csv.ok()) << csv.status().ToString();
   if (std::getenv("TPCAL_REGENERATE_SAMPLES")) {
@@ -29,7 +30,9 @@ TEST(CmmSamples, DmisQifAndXyzijkHoldTheTurningSample) {
     PointFormat format;
   } files[] = {{"tests/data/dmis/turning_sample.dmo", PointFormat::kDmis},
                {"tests/data/qif/turning_sample.qif", PointFormat::kQif},
-               {"tests/data/dmis/turning_sample_xyzijk.txt", PointFormat::kXyzijk}};
+               {"tests/data/dmis/turning_sample_xyzijk.txt", PointFormat::kXyzijk},
+               {"tests/data/tables/turning_sample_semicolon.csv", PointFormat::kCsv},
+               {"tests/data/tables/turning_sample_tab.tsv", PointFormat::kCsv}};
   for (const auto& f : files) {
     auto r = ReadPointFile(SourcePath(f.path));
     ASSERT_TRUE(r.ok()) << r.status().ToString();

@@ -229,6 +229,7 @@ TEST_F(PointCloudFormatsTest, XyzParallelEqualsSerial) {
 
 TEST_F(PointCloudFormatsTest, FormatChoice) {
   EXPECT_EQ(PointFormatFromExtension("a/b.CSV"), PointFormat::kCsv);
+  EXPECT_EQ(PointFormatFromExtension("a/b.tsv"), PointFormat::kCsv);
   EXPECT_EQ(PointFormatFromExtension("b.txt"), PointFormat::kXyz);
   EXPECT_EQ(PointFormatFromExtension("b.Ply"), PointFormat::kPly);
   EXPECT_EQ(PointFormatFromExtension("b.pcd"), PointFormat::kPcd);
@@ -239,8 +240,8 @@ TEST_F(PointCloudFormatsTest, FormatChoice) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(r.status().message(),
-            "unknown point file extension '.dat': expected .csv, .ply, .pcd, .xyz or .txt (or give "
-            "the format explicitly)");
+            "unknown point file extension '.dat': expected .csv, .tsv, .ply, .pcd, .xyz, .txt, .qif or "
+            ".dmo (or give the format explicitly)");
   PointReadOptions csv;
   csv.format = PointFormat::kCsv;
   r = ReadPointFile(odd, csv);

@@ -15,6 +15,7 @@
 #include "core/parallel.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
+#include "pipeline/io/internal/point_table_header.h"
 #include "pipeline/io/large_alloc.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/io/point_text_parser.h"
@@ -29,22 +30,8 @@ constexpr double kZeroNormalLength = 1e-12;  // below this a normal has no direc
 // within a few ulp of unit length, so reading a written file again changes nothing.
 constexpr double kAlreadyUnit = 1e-14;
 constexpr std::size_t kMaxEcho = 40;  // characters of a bad cell quoted in a message
-// Hostile sizes fail at the line at fault before memory grows with them (docs/formats/points.md).
-constexpr std::size_t kMaxColumns = 1024;
 // Coordinates beyond this (1000 km) are not measurements; their squares would overflow the fits.
 constexpr double kMaxAbsCoordinateMm = 1e9;
-
-enum class Role : std::uint8_t { kFeature, kX, kY, kZ, kI, kJ, kK, kAttribute, kIgnore };
-
-struct Layout {
-  std::vector<Role> roles;               // per column
-  std::vector<int> attr_of_column;       // attribute index per column, -1 if none
-  std::vector<std::string> names;        // per column, as written
-  std::vector<std::string> attr_names;   // per attribute
-  std::vector<std::size_t> attr_column;  // column of each attribute
-  bool has_normals = false;
-  std::string expected;  // e.g. "feature,x,y,z,i,j,k" or "x y z", for messages
-};
 
 struct Context {
   TextDialect dialect;
@@ -87,14 +74,18 @@ inline bool ParseNumber(const char* b, const char* e, double* out) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
+// As ParseNumber, and where the table allows it (Layout::decimal_comma) with a decimal comma.
+inline bool ParseCellNumber(const char* b, const char* e, bool decimal_comma, double* out) {
+  if (ParseNumber(b, e, out)) return true;
+  if (!decimal_comma || b == e || *b == '+') return false;
+  auto r = fast_float::from_chars_advanced(b, e, *out, fast_float::parse_options(fast_float::chars_format::general, ','));
+  return r.ec == std::errc() && r.ptr == e;
+}
+
 std::string LineTooLong() { return LongLineMessage(kMaxLineBytes); }
 
-// A line that holds only blanks and separators (spreadsheets export empty rows as ",,,,").
-bool OnlySeparators(std::string_view line) {
-  for (char c : line)
-    if (!IsBlank(c) && c != ',') return false;
-  return true;
-}
+// A line that holds only blanks and commas (spreadsheets export empty rows as ",,,,").
+bool OnlySeparators(std::string_view line) { return OnlyTableSeparators(line, ','); }
 
 // ---- comments and directives -------------------------------------------------------------
 
@@ -172,37 +163,6 @@ Directive ParseComment(std::string_view body, std::string* error) {
 
 // ---- tokenizers (used for the header, in error paths and for text attributes) ------------
 
-// Splits a CSV line into trimmed, unquoted cells. Returns an error message or "".
-std::string SplitCsv(std::string_view line, std::vector<std::string_view>* cells) {
-  cells->clear();
-  std::size_t i = 0;
-  const std::size_t n = line.size();
-  while (true) {
-    while (i < n && IsBlank(line[i])) ++i;
-    if (i < n && line[i] == '"') {
-      const std::size_t close = line.find('"', i + 1);
-      if (close == std::string_view::npos)
-        return fmt::format("cell {} has an opening quote but no closing quote", cells->size() + 1);
-      cells->push_back(line.substr(i + 1, close - i - 1));
-      std::size_t j = close + 1;
-      while (j < n && IsBlank(line[j])) ++j;
-      if (j < n && line[j] == '"')
-        return fmt::format("cell {} contains a doubled quote (\"\"), which this reader does not "
-                           "support", cells->size());
-      if (j < n && line[j] != ',')
-        return fmt::format("cell {} has text after its closing quote", cells->size());
-      if (j == n) return "";
-      i = j + 1;
-    } else {
-      const std::size_t comma = line.find(',', i);
-      const std::size_t e = comma == std::string_view::npos ? n : comma;
-      cells->push_back(TrimBlanks(line.substr(i, e - i)));
-      if (comma == std::string_view::npos) return "";
-      i = comma + 1;
-    }
-  }
-}
-
 void SplitXyz(std::string_view line, std::vector<std::string_view>* cells) {
   cells->clear();
   std::size_t i = 0;
@@ -216,77 +176,7 @@ void SplitXyz(std::string_view line, std::vector<std::string_view>* cells) {
   }
 }
 
-// ---- header -------------------------------------------------------------------------------
-
-Result<Layout> ParseHeader(std::string_view line, const std::string& source, std::size_t line_no) {
-  auto error = [&](std::string msg) {
-    return Status(StatusCode::kParseError, std::move(msg), source, line_no);
-  };
-  std::vector<std::string_view> cells;
-  if (std::string e = SplitCsv(line, &cells); !e.empty()) return error("header: " + e);
-  if (cells.size() > kMaxColumns)
-    return error(fmt::format("header has {} columns; expected at most {}", cells.size(), kMaxColumns));
-  Layout layout;
-  std::unordered_map<std::string, std::size_t> seen;  // lower-case name -> column
-  int found[7] = {0, 0, 0, 0, 0, 0, 0};
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    const std::string_view name = cells[c];
-    const std::string lname = Lower(name);
-    layout.names.emplace_back(name);
-    layout.attr_of_column.push_back(-1);
-    if (name.empty()) {
-      if (c + 1 == cells.size() && c > 0) {  // trailing comma
-        layout.roles.push_back(Role::kIgnore);
-        continue;
-      }
-      return error(fmt::format("header column {} has no name (expected names such as "
-                               "feature,x,y,z)", c + 1));
-    }
-    if (auto [it, inserted] = seen.emplace(lname, c); !inserted)
-      return error(fmt::format("duplicate header column '{}' (columns {} and {})", EchoInput(name),
-                               it->second + 1, c + 1));
-    static constexpr const char* kKnown[7] = {"feature", "x", "y", "z", "i", "j", "k"};
-    Role role = Role::kAttribute;
-    for (int r = 0; r < 7; ++r) {
-      if (lname == kKnown[r]) {
-        role = static_cast<Role>(r);
-        found[r] = 1;
-      }
-    }
-    if (role == Role::kAttribute) {
-      layout.attr_of_column.back() = static_cast<int>(layout.attr_names.size());
-      layout.attr_names.emplace_back(name);
-      layout.attr_column.push_back(c);
-    }
-    layout.roles.push_back(role);
-  }
-  static constexpr const char* kRequired[4] = {"feature", "x", "y", "z"};
-  for (int r = 0; r < 4; ++r) {
-    if (!found[r]) {
-      const bool semicolons = cells.size() == 1 && line.find(';') != std::string_view::npos;
-      return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "
-                               "in any order, optionally i,j,k; got '{}'){}",
-                               kRequired[r], EchoInput(TrimBlanks(line)),
-                               semicolons ? "; the separator must be ',' not ';'" : ""));
-    }
-  }
-  const int n_normal = found[4] + found[5] + found[6];
-  if (n_normal != 0 && n_normal != 3) {
-    std::string have, lack;
-    for (int r = 4; r < 7; ++r) {
-      std::string& dst = found[r] ? have : lack;
-      if (!dst.empty()) dst += ",";
-      dst += "ijk"[r - 4];
-    }
-    return error(fmt::format("header has normal column(s) {} but not {} (normals need all of "
-                             "i,j,k)", have, lack));
-  }
-  layout.has_normals = n_normal == 3;
-  std::string expected = layout.has_normals ? "feature,x,y,z,i,j,k" : "feature,x,y,z";
-  for (const auto& a : layout.attr_names) expected += "," + a;
-  layout.expected = EchoInput(expected, 2 * kMaxEchoBytes);
-  return layout;
-}
+// ---- layout of plain xyz text ------------------------------------------------------------
 
 Layout XyzLayout(std::size_t ncols) {
   Layout layout;
@@ -322,11 +212,11 @@ enum class LineResult { kPoint, kSkip, kError };
 // error, and the specific cell error `cell_error` (may be empty if the count must be wrong).
 LineResult RowError(std::string_view line, const Context& ctx, std::string cell_error,
                     ChunkOut* out) {
-  if (OnlySeparators(line)) return LineResult::kSkip;
+  if (OnlyTableSeparators(line, ctx.layout->sep)) return LineResult::kSkip;
   std::vector<std::string_view> cells;
   const std::size_t ncols = ctx.layout->roles.size();
   if (ctx.dialect == TextDialect::kCsv) {
-    if (std::string e = SplitCsv(line, &cells); !e.empty()) {
+    if (std::string e = SplitTableCells(line, ctx.layout->sep, &cells); !e.empty()) {
       out->error = std::move(e);
       return LineResult::kError;
     }
@@ -355,7 +245,7 @@ std::string NumberError(const Layout& layout, std::size_t col, std::string_view 
   const std::string name = EchoInput(layout.names[col]);
   if (cell.empty()) return fmt::format("column '{}': expected a number, got an empty cell", name);
   double v;
-  if (ParseNumber(cell.data(), cell.data() + cell.size(), &v) && !std::isfinite(v))
+  if (ParseCellNumber(cell.data(), cell.data() + cell.size(), layout.decimal_comma(), &v) && !std::isfinite(v))
     return fmt::format("column '{}': expected a finite number, got {}", name, Echo(cell));
   return fmt::format("column '{}': expected a number, got {}", name, Echo(cell));
 }
@@ -464,7 +354,8 @@ class ChunkParser {
       const char* cb;
       const char* ce;
       if constexpr (D == TextDialect::kCsv) {
-        while (c < le && IsBlank(*c)) ++c;
+        const char sep = layout_.sep;
+        while (c < le && IsCellBlank(*c, sep)) ++c;
         const char* after;
         if (c < le && *c == '"') {
           const char* close = static_cast<const char*>(
@@ -473,15 +364,14 @@ class ChunkParser {
           cb = c + 1;
           ce = close;
           after = close + 1;
-          while (after < le && IsBlank(*after)) ++after;
-          if (after < le && *after != ',') return RowError(line, ctx_, "", out_);
+          while (after < le && IsCellBlank(*after, sep)) ++after;
+          if (after < le && *after != sep) return RowError(line, ctx_, "", out_);
         } else {
           cb = c;
-          const char* comma = static_cast<const char*>(
-              std::memchr(c, ',', static_cast<std::size_t>(le - c)));
-          after = comma ? comma : le;
+          const char* at = static_cast<const char*>(std::memchr(c, sep, static_cast<std::size_t>(le - c)));
+          after = at ? at : le;
           ce = after;
-          while (ce > cb && IsBlank(ce[-1])) --ce;
+          while (ce > cb && IsCellBlank(ce[-1], sep)) --ce;
         }
         if (col + 1 < ncols) {
           if (after == le) return RowError(line, ctx_, "", out_);
@@ -510,7 +400,7 @@ class ChunkParser {
           const int a = layout_.attr_of_column[col];
           if (!out_->attr_text[a]) {
             double x = 0.0;
-            row_attr_bad_[a] = !(ParseNumber(cb, ce, &x) && std::isfinite(x));
+            row_attr_bad_[a] = !(ParseCellNumber(cb, ce, layout_.decimal_comma(), &x) && std::isfinite(x));
             row_attr_[a] = x;
           }
           break;
@@ -519,7 +409,7 @@ class ChunkParser {
           break;
         default: {
           double& x = v[static_cast<int>(role) - static_cast<int>(Role::kX)];
-          if (!ParseNumber(cb, ce, &x) || !std::isfinite(x))
+          if (!ParseCellNumber(cb, ce, layout_.decimal_comma(), &x) || !std::isfinite(x))
             return RowError(line, ctx_,
                             NumberError(layout_, col, std::string_view(cb, static_cast<std::size_t>(ce - cb))),
                             out_);
@@ -636,7 +526,7 @@ Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
     }
     pre.header_line = line_no;
     if (dialect == TextDialect::kCsv) {
-      Result<Layout> layout = ParseHeader(line, source, line_no);
+      Result<Layout> layout = ParseTableHeader(line, source, line_no);
       if (!layout.ok()) return layout.status();
       pre.layout = std::move(*layout);
       pre.data_begin = next;
@@ -704,9 +594,9 @@ void ExtractText(std::string_view chunk, const Layout& layout, const std::vector
     std::string_view line = chunk.substr(pos, le - pos);
     pos = nl == std::string_view::npos ? chunk.size() : nl + 1;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (OnlySeparators(line)) continue;
+    if (OnlyTableSeparators(line, layout.sep)) continue;
     if (TrimBlanks(line).front() == '#') continue;
-    SplitCsv(line, &cells);  // cannot fail: the line parsed
+    SplitTableCells(line, layout.sep, &cells);  // cannot fail: the line parsed
     for (int a : text_attrs)
       (*attributes)[static_cast<std::size_t>(a)].text[idx] = std::string(cells[layout.attr_column[a]]);
     ++idx;

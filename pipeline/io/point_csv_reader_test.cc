@@ -74,7 +74,7 @@ const BadCase kBadCases[] = {
     {"duplicate_column.csv", 2, "duplicate header column 'X' (columns 2 and 5)"},
     {"missing_column.csv", 3,
      "header lacks the required column 'z' (expected feature,x,y,z in any order, optionally "
-     "i,j,k; got 'feature,x,y,i,j,k')"},
+     "i,j,k, separated by ',' ';' or tabs; got 'feature,x,y,i,j,k')"},
     {"partial_normal.csv", 1, "header has normal column(s) i,j but not k (normals need all of i,j,k)"},
     {"unknown_unit.csv", 2,
      "unknown unit 'cm' in the units comment (expected '# units: mm' or '# units: in')"},
@@ -292,9 +292,50 @@ TEST(PointCsvReader, SpreadsheetQuotingEverywhere) {
   ASSERT_EQ(ps.size(), 1u);
   EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"H1, wall"}));
   EXPECT_EQ(ps.xyz_mm[0], Eigen::Vector3d(1.5, 2, 3));
-  EXPECT_EQ(ParseError("feature;x;y;z\nA;1;2;3\n").message(),
+  EXPECT_EQ(ParseError("feature|x|y|z\nA|1|2|3\n").message(),
             "header lacks the required column 'feature' (expected feature,x,y,z in any order, optionally "
-            "i,j,k; got 'feature;x;y;z'); the separator must be ',' not ';'");
+            "i,j,k, separated by ',' ';' or tabs; got 'feature|x|y|z')");
+}
+
+// Tables other software writes (docs/formats/points.md, "Tables from other software"): ';' with
+// decimal commas (spreadsheets in most of Europe), tabs, and the column names of CMM exports.
+TEST(PointCsvReader, SemicolonTableWithDecimalCommas) {
+  PointSet ps = ParseOk("Name;X;Y;Z;I;J;K\nH1;12,5;-0,25;3;0;0,6;0,8\n\"S;2\";1.5;2;1e1;1;0;0\n;;;;;;\n");
+  ASSERT_EQ(ps.size(), 2u);
+  EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"H1", "S;2"}));
+  EXPECT_EQ(ps.xyz_mm[0], Eigen::Vector3d(12.5, -0.25, 3));
+  EXPECT_EQ(ps.normal[0], Eigen::Vector3d(0, 0.6, 0.8));
+  EXPECT_EQ(ps.xyz_mm[1], Eigen::Vector3d(1.5, 2, 10));
+  EXPECT_TRUE(ps.attributes.empty());
+  EXPECT_EQ(ParseError("name;x;y;z\nA;1,2,3;0;0\n").message(),
+            "column 'x': expected a number, got '1,2,3'");
+  // In a ','-separated file a decimal comma is a cell count error, as before.
+  EXPECT_EQ(ParseError("feature,x,y,z\nA,1,5,2,3\n").message(), "row has 5 cells, header has 4 (feature,x,y,z)");
+}
+
+TEST(PointCsvReader, TabTableKeepsEmptyCellsAndBlanksInNames) {
+  PointSet ps = ParseOk("feature name\tx\ty\tz\tprobe id\n\t1\t2\t3\tT 1\nH 2\t4\t5\t6\tT 2\n");
+  ASSERT_EQ(ps.size(), 2u);
+  EXPECT_EQ(ps.feature, (std::vector<int>{PointSet::kUnlabelled, 0}));
+  EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"H 2"}));
+  ASSERT_EQ(ps.attributes.size(), 1u);
+  EXPECT_EQ(ps.attributes[0].name, "probe id");
+  EXPECT_EQ(ps.attributes[0].text, (std::vector<std::string>{"T 1", "T 2"}));
+  EXPECT_EQ(ParseError("label\tx\ty\tz\nA\t1\t2\n").message(),
+            "row has 3 cells, header has 4 (label<tab>x<tab>y<tab>z)");
+}
+
+TEST(PointCsvReader, ContractNamesWinOverAliases) {
+  // `feature` is the label; `name` stays an attribute. nx,ny,nz are the normal when i,j,k are absent.
+  PointSet ps = ParseOk("name,feature,x,y,z,nx,ny,nz\nP1,A,1,2,3,1,0,0\n");
+  EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"A"}));
+  ASSERT_EQ(ps.attributes.size(), 1u);
+  EXPECT_EQ(ps.attributes[0].name, "name");
+  EXPECT_EQ(ps.normal[0], Eigen::Vector3d(1, 0, 0));
+  // A ','-separated header that holds every required column stays ','-separated.
+  PointSet comma = ParseOk("feature,x,y,z,a;b\nA,1,2,3,4\n");
+  ASSERT_EQ(comma.attributes.size(), 1u);
+  EXPECT_EQ(comma.attributes[0].name, "a;b");
 }
 
 TEST(PointCsvReader, NormalTolerance) {

@@ -29,7 +29,7 @@ PointFormat PointFormatFromExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext)
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  if (ext == ".csv") return PointFormat::kCsv;
+  if (ext == ".csv" || ext == ".tsv") return PointFormat::kCsv;
   if (ext == ".ply") return PointFormat::kPly;
   if (ext == ".pcd") return PointFormat::kPcd;
   if (ext == ".xyz" || ext == ".txt") return PointFormat::kXyz;
@@ -74,8 +74,8 @@ Result<PointFile> ReadPointFile(const std::string& path, const PointReadOptions&
     case PointFormat::kAuto: break;
   }
   return Status(StatusCode::kInvalidArgument,
-                fmt::format("unknown point file extension '{}': expected .csv, .ply, .pcd, .xyz "
-                            "or .txt (or give the format explicitly)",
+                fmt::format("unknown point file extension '{}': expected .csv, .tsv, .ply, .pcd, "
+                            ".xyz, .txt, .qif or .dmo (or give the format explicitly)",
                             std::filesystem::path(path).extension().string()),
                 path);
 }

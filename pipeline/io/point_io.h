@@ -16,7 +16,11 @@
 //    columns keep their spelling as attribute names. Duplicate names (case-insensitive) are an
 //    error. `feature,x,y,z` are required, `i,j,k` optional but all three or none. An empty name
 //    is an error except as the very last column (a trailing comma), which is then ignored.
-//  * Cells are trimmed of blanks. A cell may be enclosed in double quotes (commas inside are
+//  * Other software's tables (internal/point_table_header.h): the separator is ',' unless only
+//    ';' or a tab gives the header its required columns; ';' and tab tables also take decimal
+//    commas; `name`, `label`, ... stand for `feature` and `nx,ny,nz` for `i,j,k` when the
+//    contract names are absent. `.tsv` files are read as CSV.
+//  * Cells are trimmed of blanks. A cell may be enclosed in double quotes (separators inside are
 //    kept); doubled quotes inside a quoted cell and quotes spanning lines are not supported.
 //  * Numbers: decimal or scientific, optional leading `+`, parsed with fast_float (correctly
 //    rounded). NaN, inf and out-of-range values are errors in x,y,z,i,j,k.
@@ -46,7 +50,7 @@ enum class LengthUnit { kMm, kInch };
 enum class PointFileKind { kUntagged, kPoints, kPlan };
 
 const char* PointFormatName(PointFormat format);
-// Format from the file extension (case-insensitive): .csv, .ply, .pcd, .xyz/.txt, .qif
+// Format from the file extension (case-insensitive): .csv/.tsv, .ply, .pcd, .xyz/.txt, .qif
 // (qif_reader.h), .dmo (dmis_reader.h); else kAuto. A .xyz/.txt file whose first line is
 // `XYZIJK` is read as PC-DMIS XYZIJK text (dmis_reader.h).
 PointFormat PointFormatFromExtension(const std::string& path);

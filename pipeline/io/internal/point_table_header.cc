@@ -1,0 +1,177 @@
+// The header of a point table (see point_table_header.h).
+#include "pipeline/io/internal/point_table_header.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <unordered_map>
+
+#include "core/input_echo.h"
+
+namespace tpcal::pipeline::internal {
+namespace {
+
+constexpr int kNamedRoles = 7;  // feature, x, y, z, i, j, k
+constexpr std::array<const char*, kNamedRoles> kRoleName = {"feature", "x", "y", "z", "i", "j", "k"};
+
+// Names other software writes for a role, in order of preference; used only when the contract
+// name is absent (a `feature` column wins over a `name` column, which then stays an attribute).
+const std::vector<std::string_view>& RoleAliases(int role) {
+  static const std::array<std::vector<std::string_view>, kNamedRoles> kAliases = {{
+      {"name", "label", "feature_name", "feature name", "featurename", "element"},
+      {}, {}, {},
+      {"nx"}, {"ny"}, {"nz"},
+  }};
+  return kAliases[static_cast<std::size_t>(role)];
+}
+
+std::string LowerAscii(std::string_view s) {
+  std::string out(s);
+  for (char& c : out)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return out;
+}
+
+// Column of each named role (-1: absent): the contract name first, then its aliases.
+std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_names) {
+  std::array<int, kNamedRoles> column;
+  column.fill(-1);
+  auto find = [&](std::string_view name) {
+    for (std::size_t c = 0; c < lower_names.size(); ++c)
+      if (lower_names[c] == name) return static_cast<int>(c);
+    return -1;
+  };
+  for (int r = 0; r < kNamedRoles; ++r) column[r] = find(kRoleName[r]);
+  for (int r = 0; r < kNamedRoles; ++r)
+    for (std::size_t a = 0; column[r] < 0 && a < RoleAliases(r).size(); ++a) column[r] = find(RoleAliases(r)[a]);
+  return column;
+}
+
+bool HasRequiredColumns(std::string_view line, char sep) {
+  std::vector<std::string_view> cells;
+  if (!SplitTableCells(line, sep, &cells).empty()) return false;
+  std::vector<std::string> lower;
+  for (std::string_view c : cells) lower.push_back(LowerAscii(c));
+  const std::array<int, kNamedRoles> column = FindRoles(lower);
+  return column[0] >= 0 && column[1] >= 0 && column[2] >= 0 && column[3] >= 0;
+}
+
+char DetectSeparator(std::string_view line) {
+  if (HasRequiredColumns(line, ',')) return ',';
+  for (char sep : {';', '\t'})
+    if (line.find(sep) != std::string_view::npos && HasRequiredColumns(line, sep)) return sep;
+  return ',';
+}
+
+}  // namespace
+
+std::string_view TrimCell(std::string_view s, char sep) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && IsCellBlank(s[b], sep)) ++b;
+  while (e > b && IsCellBlank(s[e - 1], sep)) --e;
+  return s.substr(b, e - b);
+}
+
+bool OnlyTableSeparators(std::string_view line, char sep) {
+  for (char c : line)
+    if (!IsCellBlank(c, sep) && c != sep) return false;
+  return true;
+}
+
+std::string SplitTableCells(std::string_view line, char sep, std::vector<std::string_view>* cells) {
+  cells->clear();
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (true) {
+    while (i < n && IsCellBlank(line[i], sep)) ++i;
+    if (i < n && line[i] == '"') {
+      const std::size_t close = line.find('"', i + 1);
+      if (close == std::string_view::npos)
+        return fmt::format("cell {} has an opening quote but no closing quote", cells->size() + 1);
+      cells->push_back(line.substr(i + 1, close - i - 1));
+      std::size_t j = close + 1;
+      while (j < n && IsCellBlank(line[j], sep)) ++j;
+      if (j < n && line[j] == '"')
+        return fmt::format("cell {} contains a doubled quote (\"\"), which this reader does not "
+                           "support", cells->size());
+      if (j < n && line[j] != sep)
+        return fmt::format("cell {} has text after its closing quote", cells->size());
+      if (j == n) return "";
+      i = j + 1;
+    } else {
+      const std::size_t at = line.find(sep, i);
+      const std::size_t e = at == std::string_view::npos ? n : at;
+      cells->push_back(TrimCell(line.substr(i, e - i), sep));
+      if (at == std::string_view::npos) return "";
+      i = at + 1;
+    }
+  }
+}
+
+Result<Layout> ParseTableHeader(std::string_view line, const std::string& source, std::size_t line_no) {
+  auto error = [&](std::string msg) {
+    return Status(StatusCode::kParseError, std::move(msg), source, line_no);
+  };
+  Layout layout;
+  layout.sep = DetectSeparator(line);
+  std::vector<std::string_view> cells;
+  if (std::string e = SplitTableCells(line, layout.sep, &cells); !e.empty()) return error("header: " + e);
+  if (cells.size() > kMaxTableColumns)
+    return error(fmt::format("header has {} columns; expected at most {}", cells.size(), kMaxTableColumns));
+  std::vector<std::string> lower;
+  std::unordered_map<std::string, std::size_t> seen;  // lower-case name -> column
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    lower.push_back(LowerAscii(cells[c]));
+    if (cells[c].empty()) {
+      if (c + 1 == cells.size() && c > 0) continue;  // a trailing separator
+      return error(fmt::format("header column {} has no name (expected names such as "
+                               "feature,x,y,z)", c + 1));
+    }
+    if (auto [it, inserted] = seen.emplace(lower.back(), c); !inserted)
+      return error(fmt::format("duplicate header column '{}' (columns {} and {})", EchoInput(cells[c]),
+                               it->second + 1, c + 1));
+  }
+  const std::array<int, kNamedRoles> column = FindRoles(lower);
+  for (int r = 0; r < 4; ++r) {
+    if (column[r] < 0)
+      return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "
+                               "in any order, optionally i,j,k, separated by ',' ';' or tabs; got '{}')",
+                               kRoleName[r], EchoInput(TrimCell(line, ','))));
+  }
+  const int n_normal = (column[4] >= 0) + (column[5] >= 0) + (column[6] >= 0);
+  if (n_normal != 0 && n_normal != 3) {
+    std::string have, lack;
+    for (int r = 4; r < kNamedRoles; ++r) {
+      std::string& dst = column[r] >= 0 ? have : lack;
+      if (!dst.empty()) dst += ",";
+      dst += kRoleName[r];
+    }
+    return error(fmt::format("header has normal column(s) {} but not {} (normals need all of "
+                             "i,j,k)", have, lack));
+  }
+  layout.has_normals = n_normal == 3;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    layout.names.emplace_back(cells[c]);
+    layout.attr_of_column.push_back(-1);
+    Role role = cells[c].empty() ? Role::kIgnore : Role::kAttribute;
+    for (int r = 0; r < kNamedRoles; ++r)
+      if (column[r] == static_cast<int>(c)) role = static_cast<Role>(r);
+    if (role == Role::kAttribute) {
+      layout.attr_of_column.back() = static_cast<int>(layout.attr_names.size());
+      layout.attr_names.emplace_back(cells[c]);
+      layout.attr_column.push_back(c);
+    }
+    layout.roles.push_back(role);
+  }
+  const std::string sep = layout.sep == '\t' ? "<tab>" : std::string(1, layout.sep);
+  std::string expected;
+  for (int r = 0; r < (layout.has_normals ? kNamedRoles : 4); ++r) {  // an alias as written
+    const std::size_t c = static_cast<std::size_t>(column[r]);
+    expected += (r ? sep : "") + (lower[c] == kRoleName[r] ? std::string(kRoleName[r]) : std::string(cells[c]));
+  }
+  for (const auto& a : layout.attr_names) expected += sep + a;
+  layout.expected = EchoInput(expected, 2 * kMaxEchoBytes);
+  return layout;
+}
+
+}  // namespace tpcal::pipeline::internal
