@@ -32,7 +32,10 @@ CutPoint RandomCut(const MachineModel& m, std::mt19937_64& rng) {
   c.axes.b_rad = m.type == MachineType::kAcTable ? 0.0 : rot(rng);
   c.axes.c_rad = rot(rng);
   c.axes.t_s = 500.0 * (1.0 + u(rng));
-  c.contact_in_tool_mm = Eigen::Vector3d(4 * u(rng), 4 * u(rng), 4 * u(rng));
+  // Drawn z, y, x in sequence: the order GCC gave the constructor's arguments, which C++ leaves
+  // unspecified (clang draws x first), so every compiler sees the same contact points.
+  const double contact_z = 4 * u(rng), contact_y = 4 * u(rng), contact_x = 4 * u(rng);
+  c.contact_in_tool_mm = Eigen::Vector3d(contact_x, contact_y, contact_z);
   c.nominal_point_mm = NominalToolPointInPart(m, c.axes, c.contact_in_tool_mm);
   c.du.axes = AxisDelta{u(rng), u(rng), u(rng), 0, 0, 0};
   c.dv.axes = AxisDelta{0, 0, 0, 0.002 * u(rng), 0.002 * u(rng), 0.004 * u(rng)};

@@ -148,7 +148,8 @@ std::string BatchSummaryCsv(const BatchResult& r) {
     }
     out += "ok,," + std::to_string(item.num_points) + "," + CsvNumber(item.rms_after_um) + "," +
            CsvNumber(item.sigma_um);
-    for (const auto& [name, unit] : cols) {
+    for (const auto& col : cols) {
+      const std::string& name = col.first;  // a named variable: clang 14 cannot capture a binding
       auto it = std::find_if(item.parameters.begin(), item.parameters.end(),
                              [&](const auto& p) { return p.name == name; });
       if (it != item.parameters.end() && it->identifiable)
