@@ -60,6 +60,17 @@ if(TPCAL_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# TPCAL_LIBFUZZER: the fuzz_* targets link libFuzzer's main (tests/fuzz). With TPCAL_FUZZ, and in a
+# clang sanitizer build (scripts/test.sh): there the same objects serve the unit tests and the fuzz
+# smoke run, so a new reader cannot land unfuzzed without a second build of every layer.
+set(TPCAL_LIBFUZZER OFF)
+if(TPCAL_FUZZ)
+  set(TPCAL_LIBFUZZER ON)
+elseif(TPCAL_SANITIZE AND CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  set(TPCAL_LIBFUZZER ON)
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
+
 # tpcal_add_library(NAME [DEPS public targets...] [PRIVATE_DEPS targets...])
 # Sources: every NAME/*.cc that is not a *_test.cc. Public headers: NAME/*.h, included as "NAME/x.h".
 function(tpcal_add_library name)

@@ -94,13 +94,13 @@ class Reader {
     Result<ParameterInfo> p = LookupParameter(model_, name);
     if (!p.ok()) {
       return y::Error(src_, e.key_node,
-                      "unknown key '" + e.key + "': not schema, machine, effects or <parameter>_<unit>; " +
+                      "unknown key '" + EchoInput(e.key) + "': not schema, machine, effects or <parameter>_<unit>; " +
                           p.status().message());
     }
     const std::optional<double> scale = UnitScale(unit, p->quantity);
     if (!scale) {
       return y::Error(src_, e.key_node,
-                      "key '" + e.key + "': " + p->name + " is " +
+                      "key '" + EchoInput(e.key) + "': " + p->name + " is " +
                           (p->quantity == Quantity::kLength ? "a length: end the key with _um or _mm"
                                                             : "an angle: end the key with _urad, _mrad or _deg"));
     }

@@ -83,7 +83,7 @@ Result<MachineModel> Parse(const std::string& src, const YAML::Node& root) {
   if (const y::MapEntry* e = y::Find(*entries, "schema")) {
     Result<std::string> s = y::String(src, e->value, "schema");
     TPCAL_RETURN_IF_ERROR(s);
-    if (*s != kMachineSchema) return y::Error(src, e->value, "schema: expected " + std::string(kMachineSchema) + ", got " + *s);
+    if (*s != kMachineSchema) return y::Error(src, e->value, "schema: expected " + std::string(kMachineSchema) + ", got " + EchoInput(*s));
   }
   const y::MapEntry* type_entry = y::Find(*entries, "type");
   if (!type_entry) return y::Error(src, root, "machine file: missing 'type' (ac_table, bc_table, bhead_ctable or xyz)");

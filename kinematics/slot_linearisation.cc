@@ -119,6 +119,7 @@ namespace {
 Eigen::MatrixXd SelectRows(const Eigen::MatrixXd& m, std::span<const int> rows) {
   if (m.rows() == 0) return m;
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), m.cols());
+  if (m.cols() == 0) return out;  // row() of a matrix without storage offsets a null pointer
   for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = m.row(rows[k]);
   return out;
 }

@@ -61,8 +61,10 @@ std::string WriteBallpos(double sigma_um, std::uint64_t seed, const std::string&
   for (const auto& pos : plan->positions) {
     auto cmd = kinematics::BallCentreCommand(m, cold, pos, plan->ball_part_mm);
     EXPECT_TRUE(cmd.ok()) << cmd.status().ToString();
+    // Drawn z, y, x in sequence: the order GCC gave the call's arguments (C++ leaves it unspecified).
+    const double noise_z = noise(rng), noise_y = noise(rng), noise_x = noise(rng);
     text += fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", pos.a_rad * 180.0 / M_PI, pos.c_rad * 180.0 / M_PI,
-                        cmd->x() + noise(rng), cmd->y() + noise(rng), cmd->z() + noise(rng));
+                        cmd->x() + noise_x, cmd->y() + noise_y, cmd->z() + noise_z);
   }
   const auto path = InstrumentTestDir() / fmt::format("ball_{}_{}.csv", sigma_um, seed);
   std::ofstream(path) << text;

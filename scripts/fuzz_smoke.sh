@@ -6,7 +6,7 @@
 # Usage: scripts/fuzz_smoke.sh [TARGET...]      (default: every tests/fuzz/*_fuzz.cc)
 # Env: FUZZ_SECONDS (20), FUZZ_BUILD (build-fuzz; scripts/test.sh passes its clang sanitizer
 #      build), FUZZ_DIR (FUZZ_BUILD/fuzz-smoke), FUZZ_JOBS (ninja -j, 2), FUZZ_PARALLEL (1),
-#      FUZZ_RSS_MB (-rss_limit_mb, 2048).
+#      FUZZ_RSS_MB (-rss_limit_mb, 2048), FUZZ_SEED (-seed; 0, the default, lets libFuzzer pick one).
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SECONDS_EACH=${FUZZ_SECONDS:-20}
@@ -15,6 +15,7 @@ WORK=${FUZZ_DIR:-$BUILD/fuzz-smoke}
 JOBS=${FUZZ_JOBS:-2}
 PARALLEL=${FUZZ_PARALLEL:-1}
 RSS_MB=${FUZZ_RSS_MB:-2048}
+SEED=${FUZZ_SEED:-0}
 
 # One target: `fuzz_smoke.sh --one TARGET` (the parallel runs below call it) prints one line,
 # "fuzz T: ok ..." or "fuzz T: FINDING ...".
@@ -26,7 +27,7 @@ if [ "${1:-}" = "--one" ]; then
   set +e
   (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb="$RSS_MB" \
-    -malloc_limit_mb="$RSS_MB" -dict="$ROOT/tests/fuzz/$t.dict" -print_final_stats=1 \
+    -malloc_limit_mb="$RSS_MB" -seed="$SEED" -dict="$ROOT/tests/fuzz/$t.dict" -print_final_stats=1 \
     "$dir/corpus" "$ROOT/tests/fuzz/corpus/$t" > "$dir/log.txt" 2>&1)
   rc=$?
   set -e

@@ -13,6 +13,9 @@ $APT install g++ cmake ninja-build git pkg-config \
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev \
   libyaml-cpp-dev libcli11-dev libfmt-dev libfast-float-dev nlohmann-json3-dev libxxhash-dev libtbb-dev libxml2-dev \
   libgtest-dev libgmock-dev libbenchmark-dev
+# scripts/test.sh's sanitizer stage: clang with its ASan/UBSan/libFuzzer runtimes (the unit tests and
+# the fuzz smoke run share that build).
+$APT install clang libclang-rt-14-dev
 # Tests: LinuxCNC's standalone interpreter (rs274) checks the NC programs; headless Chromium
 # renders the HTML report. --no-install-recommends keeps LinuxCNC's real-time kernel out.
 if [ "${TPCAL_SKIP_TEST_DEPS:-0}" != "1" ]; then

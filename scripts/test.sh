@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds tpcal and runs every test: a Release build with the full CTest suite, then the unit
-# tests once more under AddressSanitizer + UndefinedBehaviorSanitizer. README command 2; CI runs it.
+# tests once more under AddressSanitizer + UndefinedBehaviorSanitizer (clang) and every reader's
+# libFuzzer target for 20 s. README command 2; CI runs it.
 # Both builds are unity builds (cmake/tpcal.cmake, TPCAL_UNITY_BUILD): each target's sources are
 # compiled in batches, so the Eigen/Ceres/CGAL headers and templates are compiled once per batch.
 set -euo pipefail
@@ -14,14 +15,16 @@ cmake --build build -j "$JOBS"
 stage "Release tests"
 ctest --test-dir build --output-on-failure -j "$JOBS" --timeout 900
 
-# Sanitizers: the unit-test binaries only (label "unit"), no benchmarks, CLI or studies. -O1 with
-# line tables: the tests run several times faster than at -O0 (Eigen is not inlined at -O0), which
-# more than pays for the slower compile.
+# Sanitizers: the unit-test binaries only (label "unit"), no benchmarks, CLI or studies, and the
+# libFuzzer target of every reader, from one clang build (its objects carry libFuzzer's coverage
+# too: cmake/tpcal.cmake, TPCAL_LIBFUZZER). -O1 with line tables: the tests run several times faster
+# than at -O0 (Eigen is not inlined at -O0), which more than pays for the slower compile.
 stage "sanitizer build"
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
+cmake -S . -B build-asan -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
   -DTPCAL_SANITIZE=ON -DTPCAL_BUILD_BENCH=OFF -DTPCAL_UNITY_BUILD=ON
 cmake --build build-asan -j "$JOBS" --target core_tests fitting_tests gdt_tests kinematics_tests testpieces_tests \
-  gcode_tests io_tests diagnosis_tests report_tests pipeline_tests
+  gcode_tests io_tests diagnosis_tests report_tests pipeline_tests fuzz_targets
 # Leaks inside OpenCASCADE's own libraries are suppressed (tests/sanitizers/lsan.supp says why).
 # The long unit tests of tests/sanitizers/long_tests.txt (studies of many simulated pieces, the
 # 100-file batch) ran in the Release stage above; here their code paths are covered by the
@@ -32,5 +35,10 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 LSAN_OPTIONS=suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j "$JOBS" -L unit -E "$LONG_TESTS" --timeout 1200
+# Every reader's libFuzzer target for FUZZ_SECONDS (20) from its seed corpus: a new reader cannot
+# land unfuzzed (README, "Fuzzing"). Findings fail the run; reproducers stay in build-asan/fuzz-smoke.
+# A fixed seed: a run's mutations are repeatable (the number of runs in 20 s still varies).
+stage "fuzz smoke"
+FUZZ_BUILD=$PWD/build-asan FUZZ_JOBS="$JOBS" FUZZ_PARALLEL="$JOBS" FUZZ_SEED="${FUZZ_SEED:-1}" scripts/fuzz_smoke.sh
 stage "done"
-echo "tpcal: all tests passed (Release + ASan/UBSan)"
+echo "tpcal: all tests passed (Release + ASan/UBSan + fuzz smoke)"

@@ -316,7 +316,7 @@ class Parser {
     }
     for (const char* section : {"turning", "iso10791_m1", "iso10791_m2", "cone_frustum"}) {
       if (by_key.count(section) && piece != section) {
-        return Error(by_key[section].first, std::string("section '") + section + "' does not match piece: " + piece);
+        return Error(by_key[section].first, std::string("section '") + section + "' does not match piece: " + EchoInput(piece));
       }
     }
     // An absent or empty (null) section means the defaults.

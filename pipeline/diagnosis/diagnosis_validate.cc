@@ -188,7 +188,10 @@ Status WithheldLobes(const kinematics::MachineModel& machine, std::mt19937_64& r
 
 void WithheldDeflection(std::mt19937_64& rng, Withheld* w) {
   testpieces::ToolDeflectionModel m;
-  m.compliance_um_per_n = Eigen::Vector3d(Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04), Uniform(rng, 0.005, 0.04));
+  // Drawn z, y, x in sequence: the order GCC gave the constructor's arguments (C++ leaves it
+  // unspecified), so every compiler draws the same matrix.
+  const double compliance_z = Uniform(rng, 0.005, 0.04), compliance_y = Uniform(rng, 0.005, 0.04);
+  m.compliance_um_per_n = Eigen::Vector3d(Uniform(rng, 0.005, 0.04), compliance_y, compliance_z);
   m.passive_ratio = Uniform(rng, 0.2, 0.6);
   m.feed_ratio = Uniform(rng, 0.1, 0.5);
   w->process.deflection = m;
