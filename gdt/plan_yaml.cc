@@ -104,7 +104,7 @@ class Reader {
     auto s = String(n, what);
     if (!s.ok()) return s.status();
     auto e = parse(*s);
-    if (!e) return Error(n, what + ": unknown value '" + *s + "', expected one of " + expected);
+    if (!e) return Error(n, what + ": unknown value '" + EchoInput(*s) + "', expected one of " + expected);
     return *e;
   }
 
@@ -159,7 +159,7 @@ Result<DatumFrameSpec> ParseFrame(const Reader& rd, const YAML::Node& n) {
   } else if (type == "targets") {
     d.type = DatumFrameType::kTargets;
   } else {
-    return rd.Error(n["type"], what + " type: unknown value '" + type + "', expected turning, 3-2-1 or targets");
+    return rd.Error(n["type"], what + " type: unknown value '" + EchoInput(type) + "', expected turning, 3-2-1 or targets");
   }
   // Keys each type requires, and keys that belong to the other types only.
   using Keys = std::vector<std::pair<const char*, std::string*>>;
@@ -319,7 +319,7 @@ Result<InspectionPlan> ParseDocument(const Reader& rd, const YAML::Node& root) {
   std::string schema;
   TPCAL_ASSIGN_OR_RETURN(schema, rd.String(root["schema"], "plan schema"));
   if (schema != kSchema)
-    return rd.Error(root["schema"], "plan schema: '" + schema + "' is not supported, expected " + kSchema);
+    return rd.Error(root["schema"], "plan schema: '" + EchoInput(schema) + "' is not supported, expected " + kSchema);
   if (root["name"]) TPCAL_ASSIGN_OR_RETURN(plan.name, rd.String(root["name"], "plan name"));
   if (root["description"]) TPCAL_RETURN_IF_ERROR(rd.String(root["description"], "plan description", kMaxTextBytes));
   if (root["nominals"]) {

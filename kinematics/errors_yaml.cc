@@ -67,7 +67,7 @@ class Reader {
         Result<std::string> s = y::String(src_, e.value, "machine");
         TPCAL_RETURN_IF_ERROR(s);
         if (*s != MachineTypeName(model_.type)) {
-          return y::Error(src_, e.value, "machine: file is for '" + *s + "' but the model is " +
+          return y::Error(src_, e.value, "machine: file is for '" + EchoInput(*s) + "' but the model is " +
                                              MachineTypeName(model_.type));
         }
       } else if (e.key == "effects") {
@@ -137,7 +137,7 @@ class Reader {
       const std::optional<Axis> a = AxisFromName(head);
       if (!a || !model_.HasAxis(*a) || c.axis || unit != (IsRotary(*a) ? "deg" : "mm")) {
         return y::Error(src_, e.key_node,
-                        "unknown key '" + e.key + "' in at (one axis position such as A_deg or X_mm, "
+                        "unknown key '" + EchoInput(e.key) + "' in at (one axis position such as A_deg or X_mm, "
                         "optional tol_deg / tol_mm and op)");
       }
       c.axis = *a;
@@ -173,7 +173,7 @@ class Reader {
     const std::optional<Symbol> sym = ParseSymbol(*sym_s);
     if (!sym || IsRotary(sym->axis) != rotary || !model_.HasAxis(sym->axis)) {
       return y::Error(src_, sym_e->value,
-                      what + ": symbol '" + *sym_s + "' is not E_<direction><" +
+                      what + ": symbol '" + EchoInput(*sym_s) + "' is not E_<direction><" +
                           (rotary ? "rotary" : "linear") + " axis of this machine> (e.g. " +
                           (rotary ? "E_XC, E_CC" : "E_YX, E_XX") + ")");
     }

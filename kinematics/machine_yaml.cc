@@ -22,7 +22,7 @@ Result<std::vector<Axis>> AxisList(const std::string& src, const YAML::Node& n,
     Result<std::string> s = y::String(src, n[i], what);
     TPCAL_RETURN_IF_ERROR(s);
     const std::optional<Axis> a = AxisFromName(*s);
-    if (!a) return y::Error(src, n[i], what + ": '" + *s + "' is not an axis (X, Y, Z, A, B or C)");
+    if (!a) return y::Error(src, n[i], what + ": '" + EchoInput(*s) + "' is not an axis (X, Y, Z, A, B or C)");
     out.push_back(*a);
   }
   return out;
@@ -92,7 +92,7 @@ Result<MachineModel> Parse(const std::string& src, const YAML::Node& root) {
   const std::optional<MachineType> type = MachineTypeFromName(*type_name);
   if (!type) {
     return y::Error(src, type_entry->value,
-                    "type: unknown machine type '" + *type_name + "' (ac_table, bc_table, bhead_ctable or xyz)");
+                    "type: unknown machine type '" + EchoInput(*type_name) + "' (ac_table, bc_table, bhead_ctable or xyz)");
   }
   MachineLayout layout;
   const y::MapEntry* wc = y::Find(*entries, "workpiece_chain");

@@ -33,10 +33,11 @@ inline Status Error(const std::string& source, const YAML::Node& n, const std::s
 // Keys and text values reach messages (and names reach reports): printable UTF-8, bounded.
 inline constexpr std::size_t kMaxKeyBytes = 128;
 inline constexpr std::size_t kMaxTextBytes = 256;
-inline bool Printable(const std::string& s, std::size_t max_bytes) {
+// A text value may hold tabs; a key (a name) may not.
+inline bool Printable(const std::string& s, std::size_t max_bytes, bool allow_tab = true) {
   if (s.size() > max_bytes || FirstInvalidUtf8(s) != std::string::npos) return false;
   for (char c : s)
-    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) return false;
+    if ((static_cast<unsigned char>(c) < 0x20 && !(allow_tab && c == '\t')) || c == 0x7F) return false;
   return true;
 }
 
@@ -54,7 +55,7 @@ inline Result<std::vector<MapEntry>> Entries(const std::string& source, const YA
   for (auto it = map.begin(); it != map.end(); ++it) {
     if (!it->first.IsScalar()) return Error(source, it->first, what + ": keys must be plain names");
     const std::string key = it->first.Scalar();
-    if (!Printable(key, kMaxKeyBytes))
+    if (!Printable(key, kMaxKeyBytes, /*allow_tab=*/false))
       return Error(source, it->first, what + ": key '" + EchoInput(key) + "': expected a printable name of at most " +
                                           std::to_string(kMaxKeyBytes) + " bytes");
     if (!seen.insert(key).second) {
