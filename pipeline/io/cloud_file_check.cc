@@ -530,7 +530,10 @@ Status CheckPlyBytes(std::string_view bytes, const std::string& path, CloudNotes
     const std::string_view key = tok[0];
     if (key == "comment") continue;
     if (key == "obj_info") {
-      if (tok.size() >= 2 && (tok[1] == "num_cols" || tok[1] == "num_rows")) {
+      // PCL splits the line on every blank and asserts exactly three fields (abort, not an error).
+      if (tok.size() != 3 || CloudBlank(line.front()) || CloudBlank(line.back()))
+        return error("expected 'obj_info NAME VALUE': three fields, no leading or trailing blank");
+      if (tok[1] == "num_cols" || tok[1] == "num_rows") {
         std::uint64_t v = 0;
         if (tok.size() != 3 || !CloudUnsigned(tok[2], kCloudMaxPoints, &v))
           return error(fmt::format("expected 'obj_info {} COUNT' with a count from 0 to {}", tok[1], kCloudMaxPoints));
