@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Rewrites turning_sample.dmo and turning_sample_xyzijk.txt from samples/turning/cmm_points.csv:
 the same header lines, then one line per point with the CSV's number text copied unchanged
-(labels <feature>_<k>, k counting the feature's points from 1). Run from anywhere."""
+(labels <feature>_<k>, k counting the feature's points from 1); and the two tables of
+../tables/ (a ';' table with decimal commas, a tab table). Run from anywhere."""
 import os
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -31,3 +32,13 @@ for feature, numbers in rows:
 rewrite("turning_sample.dmo", lambda l: not l.startswith("FA(") and not l.startswith("ENDFIL"), dmo + ["ENDFIL\n"])
 rewrite("turning_sample_xyzijk.txt", lambda l: l.strip() in ("XYZIJK", "METRIC"),
         ["%s,%s\n" % (feature, ",".join(numbers)) for feature, numbers in rows])
+
+tables = os.path.join(here, "..", "tables")
+with open(os.path.join(tables, "turning_sample_semicolon.csv"), "w", newline="") as f:
+    f.write("Name;X;Y;Z;I;J;K;Probe\r\n")
+    for k, (feature, numbers) in enumerate(rows):
+        f.write("%s;%s;T%d\r\n" % (feature, ";".join(n.replace(".", ",") for n in numbers), 1 + k % 2))
+with open(os.path.join(tables, "turning_sample_tab.tsv"), "w") as f:
+    f.write("feature name\tx\ty\tz\tnx\tny\tnz\n")
+    for feature, numbers in rows:
+        f.write("%s\t%s\n" % (feature, "\t".join(numbers)))
