@@ -1,9 +1,9 @@
 // tests/data/dmis/, tests/data/tables/ and tests/data/qif/turning_sample.qif hold
-// samples/turning/cmm_points.csv in the CMM formats and other software's tables: read through the dispatch they give the CSV's points bit for bit, and the QIF
-// file is what FormatPointQif writes today. When the sample changes on purpose, regenerate the
-// QIF file with TPCAL_REGENERATE_SAMPLES=1 (this test then writes it) and the DMIS and XYZIJK
-// files with tests/data/dmis/regenerate.py, the tables too (their
-// number text is the CSV's, copied).
+// samples/turning/cmm_points.csv in the CMM formats and other software's tables: read through the
+// dispatch they give the CSV's points bit for bit, and the QIF file is what FormatPointQif writes
+// today. When the sample changes on purpose, regenerate the QIF file with
+// TPCAL_REGENERATE_SAMPLES=1 (this test then writes it) and the DMIS, XYZIJK and table files with
+// tests/data/dmis/regenerate.py (their number text is the CSV's, copied).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
