@@ -6,7 +6,8 @@
 # Usage: scripts/fuzz_smoke.sh [TARGET...]      (default: every tests/fuzz/*_fuzz.cc)
 # Env: FUZZ_SECONDS (20), FUZZ_BUILD (build-fuzz; scripts/test.sh passes its clang sanitizer
 #      build), FUZZ_DIR (FUZZ_BUILD/fuzz-smoke), FUZZ_JOBS (ninja -j, 2), FUZZ_PARALLEL (1),
-#      FUZZ_RSS_MB (-rss_limit_mb, 2048), FUZZ_SEED (-seed; 0, the default, lets libFuzzer pick one).
+#      FUZZ_RSS_MB (-rss_limit_mb, 2048), FUZZ_SEED (-seed; 0, the default, lets libFuzzer pick one),
+#      FUZZ_RUNS (-runs: stop a target after this many executions, whichever comes first; -1, none).
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SECONDS_EACH=${FUZZ_SECONDS:-20}
@@ -16,6 +17,7 @@ JOBS=${FUZZ_JOBS:-2}
 PARALLEL=${FUZZ_PARALLEL:-1}
 RSS_MB=${FUZZ_RSS_MB:-2048}
 SEED=${FUZZ_SEED:-0}
+RUNS=${FUZZ_RUNS:--1}
 
 # One target: `fuzz_smoke.sh --one TARGET` (the parallel runs below call it) prints one line,
 # "fuzz T: ok ..." or "fuzz T: FINDING ...".
@@ -26,17 +28,18 @@ if [ "${1:-}" = "--one" ]; then
   # Findings are written into $dir; the seed corpus in the tree is read, never written.
   set +e
   (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
-    "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb="$RSS_MB" \
+    "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -runs="$RUNS" -timeout=10 -rss_limit_mb="$RSS_MB" \
     -malloc_limit_mb="$RSS_MB" -seed="$SEED" -dict="$ROOT/tests/fuzz/$t.dict" -print_final_stats=1 \
     "$dir/corpus" "$ROOT/tests/fuzz/corpus/$t" > "$dir/log.txt" 2>&1)
   rc=$?
   set -e
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log.txt" | tail -1)
+  took=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$dir/log.txt" | tail -1)
   if [ $rc -ne 0 ] || ls "$dir" | grep -Eq '^(crash|leak|timeout|oom|slow-unit)-'; then
     echo "fuzz $t: FINDING (exit $rc, ${runs:-?} runs); see $dir/log.txt"
     grep -E '^(==[0-9]+==ERROR|SUMMARY|tpcal fuzz)' "$dir/log.txt" | head -5 || true
   else
-    echo "fuzz $t: ok, ${runs:-?} runs in ${SECONDS_EACH}s"
+    echo "fuzz $t: ok, ${runs:-?} runs in ${took:-$SECONDS_EACH}s"
   fi
   exit 0
 fi
@@ -62,4 +65,5 @@ if [ -n "$failed" ] || [ "$(grep -c '^fuzz [^:]*: ok' "$report")" -ne "$(printf 
   echo "fuzz smoke: findings in: ${failed:-(a target gave no result)}"
   exit 1
 fi
-echo "fuzz smoke: every target ran ${SECONDS_EACH}s without a finding"
+if [ "$RUNS" = "-1" ]; then limit="${SECONDS_EACH}s"; else limit="up to ${SECONDS_EACH}s or $RUNS runs"; fi
+echo "fuzz smoke: every target ran $limit without a finding"
