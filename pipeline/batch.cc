@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "core/ascii.h"
 #include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/run_output.h"
@@ -24,8 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 bool IsPointFileName(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = AsciiLower(p.extension().string());
   return ext == ".csv" || ext == ".ply" || ext == ".pcd" || ext == ".xyz" || ext == ".txt";
 }
 

@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <filesystem>
 #include <optional>
 #include <utility>
 
+#include "core/ascii.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/instrument_reference.h"
 #include "pipeline/io/point_io.h"
@@ -18,8 +18,7 @@ namespace {
 // into *points.
 Status LoadDiagnosisReference(const std::string& path, const kinematics::MachineModel& machine,
                               DiagnosisOptions* options, std::optional<PointSet>* points) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = AsciiLower(std::filesystem::path(path).extension().string());
   options->reference_name = std::filesystem::path(path).filename().string();
   if (ext == ".yaml" || ext == ".yml") {
     auto ref = kinematics::LoadErrorState(path, machine);

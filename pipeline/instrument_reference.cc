@@ -4,12 +4,12 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
 #include <utility>
 
+#include "core/ascii.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/prior_update.h"
 #include "pipeline/ballbar_stage.h"
@@ -177,9 +177,7 @@ std::string UpdateNote(const Prior& prior, const kinematics::PriorUpdate& up, co
 }  // namespace
 
 bool IsIdentificationReference(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".json";
+  return AsciiLower(std::filesystem::path(path).extension().string()) == ".json";
 }
 
 Result<InstrumentReference> IdentifyInstrumentReference(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/ascii.h"
 #include "core/input_echo.h"
 #include "core/parallel.h"
 #include "core/units.h"
@@ -51,13 +52,6 @@ std::string_view TrimBlanks(std::string_view s) {
   return s.substr(b, e - b);
 }
 
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return out;
-}
-
 std::string Echo(std::string_view cell) {
   if (cell.size() <= kMaxEcho) return fmt::format("'{}'", EchoInput(cell));
   return fmt::format("'{}...'", EchoInput(cell.substr(0, kMaxEcho - 3)));
@@ -77,7 +71,12 @@ inline bool ParseNumber(const char* b, const char* e, double* out) {
 // As ParseNumber, and where the table allows it (Layout::decimal_comma) with a decimal comma.
 inline bool ParseCellNumber(const char* b, const char* e, bool decimal_comma, double* out) {
   if (ParseNumber(b, e, out)) return true;
-  if (!decimal_comma || b == e || *b == '+') return false;
+  if (!decimal_comma) return false;
+  if (b != e && *b == '+') {
+    ++b;
+    if (b != e && (*b == '+' || *b == '-')) return false;
+  }
+  if (b == e) return false;
   auto r = fast_float::from_chars_advanced(b, e, *out, fast_float::parse_options(fast_float::chars_format::general, ','));
   return r.ec == std::errc() && r.ptr == e;
 }
@@ -103,7 +102,7 @@ std::pair<std::string_view, std::string_view> FirstWord(std::string_view body) {
 }
 
 bool IsUnitsDirective(std::string_view comment_body) {
-  return Lower(FirstWord(TrimBlanks(comment_body)).first) == "units";
+  return AsciiLower(FirstWord(TrimBlanks(comment_body)).first) == "units";
 }
 
 // `body` is the comment without its '#'. Error message (empty if fine) through `error`.
@@ -111,11 +110,11 @@ Directive ParseComment(std::string_view body, std::string* error) {
   Directive d;
   body = TrimBlanks(body);
   auto [word, rest] = FirstWord(body);
-  const std::string lword = Lower(word);
+  const std::string lword = AsciiLower(word);
   if (lword == "units") {
     rest = TrimBlanks(rest);
     if (!rest.empty() && (rest.front() == ':' || rest.front() == '=')) rest.remove_prefix(1);
-    const std::string value = Lower(TrimBlanks(rest));
+    const std::string value = AsciiLower(TrimBlanks(rest));
     if (value == "mm") {
       d.kind = Directive::Kind::kUnits;
       d.unit = LengthUnit::kMm;
@@ -145,7 +144,7 @@ Directive ParseComment(std::string_view body, std::string* error) {
       return d;
     for (std::size_t i = 1; i < words[1].size(); ++i)
       if (words[1][i] < '0' || words[1][i] > '9') return d;
-    const std::string kind = Lower(words[0]);
+    const std::string kind = AsciiLower(words[0]);
     const std::string version(words[1].substr(1));
     if (kind == "points" && version == "1") {
       d.kind = Directive::Kind::kTag;

@@ -311,6 +311,10 @@ TEST(PointCsvReader, SemicolonTableWithDecimalCommas) {
             "column 'x': expected a number, got '1,2,3'");
   // In a ','-separated file a decimal comma is a cell count error, as before.
   EXPECT_EQ(ParseError("feature,x,y,z\nA,1,5,2,3\n").message(), "row has 5 cells, header has 4 (feature,x,y,z)");
+  // A leading '+' as the point form allows it; never two signs.
+  EXPECT_EQ(ParseOk("name;x;y;z\nA;+1,5;+2;-0,5\n").xyz_mm[0], Eigen::Vector3d(1.5, 2, -0.5));
+  EXPECT_EQ(ParseError("name;x;y;z\nA;+-1,5;0;0\n").message(), "column 'x': expected a number, got '+-1,5'");
+  EXPECT_EQ(ParseError("name;x;y;z\nA;+;0;0\n").message(), "column 'x': expected a number, got '+'");
 }
 
 TEST(PointCsvReader, TabTableKeepsEmptyCellsAndBlanksInNames) {
@@ -336,6 +340,9 @@ TEST(PointCsvReader, ContractNamesWinOverAliases) {
   PointSet comma = ParseOk("feature,x,y,z,a;b\nA,1,2,3,4\n");
   ASSERT_EQ(comma.attributes.size(), 1u);
   EXPECT_EQ(comma.attributes[0].name, "a;b");
+  // The normal's aliases count only as a whole triple: `i` with `ny,nz` is not one normal.
+  EXPECT_EQ(ParseError("feature,x,y,z,i,ny,nz\nA,1,2,3,1,0,0\n").message(),
+            "header has normal column(s) i but not j,k (normals need all of i,j,k)");
 }
 
 TEST(PointCsvReader, NormalTolerance) {

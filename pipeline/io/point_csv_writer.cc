@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/ascii.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/io/point_io.h"
 
@@ -15,13 +16,6 @@ constexpr std::size_t kFlushBytes = 1 << 20;
 // A normal farther than this from unit length would be rejected (or silently renormalised)
 // by the reader, so the writer refuses it: the caller has a bug.
 constexpr double kWriteNormalTolerance = 1e-3;
-
-std::string LowerCell(std::string_view s) {
-  std::string out(s);
-  for (char& c : out)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return out;
-}
 
 void AppendNumber(std::string* out, double v, int fixed_decimals) {
   char buf[400];  // fixed notation of the largest double with 17 decimals fits
@@ -67,7 +61,7 @@ class CsvFormatter {
     std::vector<std::string> names = {"feature", "x", "y", "z", "i", "j", "k"};
     for (const PointAttribute& a : ps_.attributes) {
       if (a.name.empty()) return invalid("an attribute has an empty name");
-      const std::string lname = LowerCell(a.name);
+      const std::string lname = AsciiLower(a.name);
       for (const std::string& other : names)
         if (lname == other)
           return invalid(fmt::format("attribute name '{}' clashes with another column", a.name));

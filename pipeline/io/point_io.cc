@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/ascii.h"
 #include "pipeline/io/dmis_reader.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/io/qif_reader.h"
@@ -26,9 +27,7 @@ const char* PointFormatName(PointFormat format) {
 }
 
 PointFormat PointFormatFromExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  const std::string ext = AsciiLower(std::filesystem::path(path).extension().string());
   if (ext == ".csv" || ext == ".tsv") return PointFormat::kCsv;
   if (ext == ".ply") return PointFormat::kPly;
   if (ext == ".pcd") return PointFormat::kPcd;

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/ascii.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
 
@@ -93,9 +94,8 @@ std::optional<std::size_t> QifIndex(std::string_view s) {
 }
 
 // Length unit name (lower case) -> mm per unit.
-std::optional<double> KnownUnitMm(std::string name) {
-  for (char& c : name)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+std::optional<double> KnownUnitMm(std::string_view unit) {
+  const std::string name = AsciiLower(unit);
   if (name == "mm" || name == "millimeter" || name == "millimetre") return 1.0;
   if (name == "cm" || name == "centimeter" || name == "centimetre") return 10.0;
   if (name == "m" || name == "meter" || name == "metre") return 1000.0;

@@ -6,6 +6,7 @@
 #include <array>
 #include <unordered_map>
 
+#include "core/ascii.h"
 #include "core/input_echo.h"
 
 namespace tpcal::pipeline::internal {
@@ -14,25 +15,16 @@ namespace {
 constexpr int kNamedRoles = 7;  // feature, x, y, z, i, j, k
 constexpr std::array<const char*, kNamedRoles> kRoleName = {"feature", "x", "y", "z", "i", "j", "k"};
 
-// Names other software writes for a role, in order of preference; used only when the contract
-// name is absent (a `feature` column wins over a `name` column, which then stays an attribute).
-const std::vector<std::string_view>& RoleAliases(int role) {
-  static const std::array<std::vector<std::string_view>, kNamedRoles> kAliases = {{
-      {"name", "label", "feature_name", "feature name", "featurename", "element"},
-      {}, {}, {},
-      {"nx"}, {"ny"}, {"nz"},
-  }};
-  return kAliases[static_cast<std::size_t>(role)];
-}
+// Names other software writes for the feature label, in order of preference, and for the
+// normal; used only when the contract name is absent (a `feature` column wins over a `name`
+// column, which then stays an attribute).
+constexpr std::array<std::string_view, 6> kFeatureAliases = {"name", "label", "feature_name", "feature name",
+                                                             "featurename", "element"};
+constexpr std::array<std::string_view, 3> kNormalAliases = {"nx", "ny", "nz"};
 
-std::string LowerAscii(std::string_view s) {
-  std::string out(s);
-  for (char& c : out)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return out;
-}
-
-// Column of each named role (-1: absent): the contract name first, then its aliases.
+// Column of each named role (-1: absent): the contract name first, then its aliases. The normal's
+// aliases count only as a whole triple and only without any of i,j,k, so `i,ny,nz` is not read
+// as one normal (it fails as a normal lacking j,k).
 std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_names) {
   std::array<int, kNamedRoles> column;
   column.fill(-1);
@@ -42,8 +34,13 @@ std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_nam
     return -1;
   };
   for (int r = 0; r < kNamedRoles; ++r) column[r] = find(kRoleName[r]);
-  for (int r = 0; r < kNamedRoles; ++r)
-    for (std::size_t a = 0; column[r] < 0 && a < RoleAliases(r).size(); ++a) column[r] = find(RoleAliases(r)[a]);
+  for (std::size_t a = 0; column[0] < 0 && a < kFeatureAliases.size(); ++a) column[0] = find(kFeatureAliases[a]);
+  if (column[4] < 0 && column[5] < 0 && column[6] < 0) {
+    std::array<int, 3> alias;
+    for (int d = 0; d < 3; ++d) alias[d] = find(kNormalAliases[d]);
+    if (alias[0] >= 0 && alias[1] >= 0 && alias[2] >= 0)
+      for (int d = 0; d < 3; ++d) column[4 + d] = alias[d];
+  }
   return column;
 }
 
@@ -51,7 +48,7 @@ bool HasRequiredColumns(std::string_view line, char sep) {
   std::vector<std::string_view> cells;
   if (!SplitTableCells(line, sep, &cells).empty()) return false;
   std::vector<std::string> lower;
-  for (std::string_view c : cells) lower.push_back(LowerAscii(c));
+  for (std::string_view c : cells) lower.push_back(AsciiLower(c));
   const std::array<int, kNamedRoles> column = FindRoles(lower);
   return column[0] >= 0 && column[1] >= 0 && column[2] >= 0 && column[3] >= 0;
 }
@@ -121,7 +118,7 @@ Result<Layout> ParseTableHeader(std::string_view line, const std::string& source
   std::vector<std::string> lower;
   std::unordered_map<std::string, std::size_t> seen;  // lower-case name -> column
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    lower.push_back(LowerAscii(cells[c]));
+    lower.push_back(AsciiLower(cells[c]));
     if (cells[c].empty()) {
       if (c + 1 == cells.size() && c > 0) continue;  // a trailing separator
       return error(fmt::format("header column {} has no name (expected names such as "
