@@ -1,39 +1,56 @@
-// QIF 3.0 results reader on libxml2's xmlTextReader (see qif_reader.h for the rules).
+// QIF 3.0 results reader on libxml2's SAX2 parser (see qif_reader.h for the rules).
 #include "pipeline/io/qif_reader.h"
 
 #include <fast_float/fast_float.h>
 #include <fmt/format.h>
+#include <libxml/parser.h>
+#include <libxml/parserInternals.h>
+#include <libxml/xmlIO.h>
 #include <libxml/xmlerror.h>
-#include <libxml/xmlreader.h>
 #include <libxml/xmlversion.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <system_error>
-#include <thread>
 #include <vector>
 
 #include "core/ascii.h"
+#include "core/parallel.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
 
 namespace tpcal::pipeline {
 namespace {
 
+// A <MeasuredPointSet>: its points are xyz_[first, first + n) of the parser, in file units,
+// and its normals (if any) normal_[normal_first, normal_first + n_normal).
 struct QifPointSet {
   std::size_t line = 0;
   std::size_t count_attr = 0;  // 0: no count attribute
-  std::vector<Eigen::Vector3d> xyz;     // file units
-  std::vector<std::size_t> xyz_line;
-  std::vector<Eigen::Vector3d> normal;  // unit
+  std::size_t first = 0, n = 0;
+  std::size_t normal_first = 0, n_normal = 0;
   std::optional<bool> compensated;
   std::optional<double> probe_radius;   // file units
   bool referenced = false;
+};
+
+// Probe centres the reader moves onto the surface: not compensated, a radius and normals.
+bool MovedByReader(const QifPointSet& s) {
+  return s.compensated.has_value() && !*s.compensated && s.probe_radius.has_value() && s.n_normal != 0;
+}
+
+// Points to emit: a range (1-based, inclusive) of a set, with the feature they are labelled by.
+struct QifEmit {
+  const QifPointSet* set;
+  std::size_t first, last;
+  int feature;
 };
 
 struct QifRef {
@@ -129,6 +146,23 @@ std::size_t DoctypeLine(std::string_view t) {
   return 0;
 }
 
+// The attributes of a start tag as SAX2 gives them: five pointers per attribute (local name,
+// prefix, namespace, value begin, value end), values with character references replaced.
+struct XmlAttrs {
+  const xmlChar** a = nullptr;
+  int n = 0;
+
+  // The value of the unprefixed attribute `name`, "" if absent.
+  std::string Get(std::string_view name) const {
+    for (int k = 0; k < n; ++k) {
+      const xmlChar** at = a + 5 * k;
+      if (at[1] == nullptr && name == reinterpret_cast<const char*>(at[0]))
+        return std::string(reinterpret_cast<const char*>(at[3]), static_cast<std::size_t>(at[4] - at[3]));
+    }
+    return {};
+  }
+};
+
 // The streaming pass: collects items, measurements, point sets and units, then Assemble().
 class QifParser {
  public:
@@ -158,17 +192,50 @@ class QifParser {
     return false;
   }
 
-  Status OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t line);
+  // SAX2 callbacks (user data: the parser); after a failure they do nothing.
+  static void SaxStart(void* self, const xmlChar* local, const xmlChar* prefix, const xmlChar* uri, int n_ns,
+                       const xmlChar** ns, int n_attrs, int n_defaulted, const xmlChar** attrs);
+  static void SaxEnd(void* self, const xmlChar* local, const xmlChar* prefix, const xmlChar* uri);
+  static void SaxText(void* self, const xmlChar* text, int len);
+  static void SaxComment(void* self, const xmlChar* text);
+  std::size_t ParserLine() const { return static_cast<std::size_t>(std::max(1, ctxt_->input->line)); }
+  void Fail(Status s);  // keeps the first failure and stops libxml2
+
+  Status OnElement(std::string_view name, const XmlAttrs& attrs);
+  Status OnStart(const XmlAttrs& attrs, std::string_view name, std::size_t line);
   Status OnEnd(std::string_view name, std::size_t line);
+  Status OnBlockText(std::string_view text);  // text of <Points>/<Normals>, in pieces
+  Status ParsePlainBlock();
+  std::optional<std::size_t> RawOffset(const xmlChar* at) const;
+  Status FlushCarry();
   Status OnNumbers(std::string_view text);
-  Status Take(double v, std::size_t line);  // one number of the current <Points>/<Normals>
+  bool ParsePlainParallel(std::string_view text, std::size_t pieces);
+  // One number of the current <Points>/<Normals> (`line`: its line); a completed triple is
+  // stored, a normal checked first (its length is the only failure).
+  Status Take(double v, std::size_t line) {
+    if (in_triple_ == 0) triple_line_ = line;
+    triple_[in_triple_++] = v;
+    if (in_triple_ < 3) return Status::Ok();
+    in_triple_ = 0;
+    if (block_ == Block::kNormals) return TakeNormal();
+    xyz_.emplace_back(triple_[0], triple_[1], triple_[2]);
+    xyz_line_.push_back(triple_line_);
+    ++cur_set_->n;
+    return Status::Ok();
+  }
+  Status TakeNormal();
   Status FinishSet();
+  void ReserveFor(std::vector<Eigen::Vector3d>* v);
   Result<QifFile> Assemble();
+  void EmitPoints(const std::vector<QifEmit>& plan, double mm_per_unit, PointSet* ps);
 
   std::string source_;
   QifReadOptions options_;
   std::size_t text_bytes_ = 0;  // size of the document, bounds reservations
-  std::vector<std::string_view> stack_;  // local names (libxml2 dictionary, live with the reader)
+  xmlParserCtxtPtr ctxt_ = nullptr;
+  Status failure_ = Status::Ok();
+  bool saw_root_ = false;
+  std::vector<std::string_view> stack_;  // local names (libxml2 dictionary, live with the parser)
   std::string text_;                     // text of the current simple element
   std::size_t xml_error_line_ = 0;
   std::string xml_error_;
@@ -188,6 +255,9 @@ class QifParser {
 
   std::map<std::string, QifPointSet> sets_;
   std::vector<std::string> set_order_;
+  // Points of every set in file order (file units), their lines, and the normals (unit).
+  std::vector<Eigen::Vector3d> xyz_, normal_;
+  std::vector<std::size_t> xyz_line_;
   std::string cur_set_id_;
   QifPointSet* cur_set_ = nullptr;
   // <Points> / <Normals> text being parsed
@@ -196,24 +266,24 @@ class QifParser {
   std::size_t triple_line_ = 0;
   double triple_[3] = {0, 0, 0};
   int in_triple_ = 0;
+  std::string carry_;  // a number cut where one piece of block text ends and the next begins
+  // The document, and how far libxml2 has read it (the read callback's position).
+  struct Source {
+    const char* p;
+    std::size_t left;
+  } src_{nullptr, 0};
+  std::string_view raw_;
+  std::size_t parsed_until_ = 0;  // block text before this file offset was parsed by ParsePlainBlock
 };
 
-std::string Attr(xmlTextReaderPtr r, const char* name) {
-  xmlChar* v = xmlTextReaderGetAttribute(r, reinterpret_cast<const xmlChar*>(name));
-  if (v == nullptr) return {};
-  std::string out(reinterpret_cast<const char*>(v));
-  xmlFree(v);
-  return out;
-}
-
-Status QifParser::OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t line) {
+Status QifParser::OnStart(const XmlAttrs& attrs, std::string_view name, std::size_t line) {
   text_.clear();
   const std::string_view parent = stack_.empty() ? std::string_view{} : stack_.back();
   if (name == "LinearUnit" && parent == "PrimaryUnits" && Under("FileUnits")) {
     in_primary_linear_ = true;
     unit_line_ = line;
   } else if (EndsWith(name, "FeatureItem") && parent == "FeatureItems") {
-    cur_item_ = Attr(r, "id");
+    cur_item_ = attrs.Get("id");
     if (cur_item_.empty()) return Error(line, fmt::format("<{}> without an id attribute: expected id=\"N\"", name));
     QifItem& item = items_[cur_item_];
     item.line = line;
@@ -227,7 +297,7 @@ Status QifParser::OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t
       ref.kind = QifRef::Kind::kWhole;
     } else if (name == "RangePointSetId") {
       ref.kind = QifRef::Kind::kRange;
-      const std::string range = Attr(r, "range");
+      const std::string range = attrs.Get("range");
       const std::size_t sp = range.find_first_of(" \t");
       auto a = QifIndex(std::string_view(range).substr(0, sp));
       auto b = sp == std::string::npos ? std::nullopt : QifIndex(TrimXml(std::string_view(range).substr(sp)));
@@ -238,7 +308,7 @@ Status QifParser::OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t
       ref.last = *b;
     } else if (name == "SinglePointSetId") {
       ref.kind = QifRef::Kind::kSingle;
-      const std::string index = Attr(r, "index");
+      const std::string index = attrs.Get("index");
       auto k = QifIndex(index);
       if (!k || *k < 1)
         return Error(line, fmt::format("<SinglePointSetId index=\"{}\">: expected a 1-based point index", index));
@@ -249,30 +319,31 @@ Status QifParser::OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t
     }
     cur_ref_ = ref;
   } else if (name == "MeasuredPointSet" && parent == "MeasuredPointSets") {
-    cur_set_id_ = Attr(r, "id");
+    cur_set_id_ = attrs.Get("id");
     if (cur_set_id_.empty()) return Error(line, "<MeasuredPointSet> without an id attribute: expected id=\"N\"");
     if (sets_.count(cur_set_id_) != 0)
       return Error(line, fmt::format("<MeasuredPointSet id=\"{}\"> appears twice: expected unique ids", cur_set_id_));
     cur_set_ = &sets_[cur_set_id_];
     set_order_.push_back(cur_set_id_);
     cur_set_->line = line;
-    const std::string count = Attr(r, "count");
+    cur_set_->first = xyz_.size();
+    cur_set_->normal_first = normal_.size();
+    const std::string count = attrs.Get("count");
     if (!count.empty()) {
       auto c = QifIndex(count);
       if (!c) return Error(line, fmt::format("<MeasuredPointSet count=\"{}\">: expected a point count", count));
       cur_set_->count_attr = *c;
-      const std::size_t reserve = std::min<std::size_t>(*c, text_bytes_ / 6 + 1);  // a triple takes >= 6 bytes
-      cur_set_->xyz.reserve(reserve);
-      cur_set_->xyz_line.reserve(reserve);
     }
   } else if (cur_set_ != nullptr && parent == "MeasuredPointSet") {
     if (name == "Points" || name == "Normals") {
       block_ = name == "Points" ? Block::kPoints : Block::kNormals;
       block_line_ = line;
       in_triple_ = 0;
-      if (block_ == Block::kNormals && !cur_set_->normal.empty())
+      parsed_until_ = 0;
+      if (block_ == Block::kNormals && cur_set_->n_normal != 0)
         return Error(line, "a second <Normals>: expected one per MeasuredPointSet");
-      if (block_ == Block::kNormals) cur_set_->normal.reserve(cur_set_->xyz.size());
+      ReserveFor(block_ == Block::kPoints ? &xyz_ : &normal_);
+      return ParsePlainBlock();
     } else if (name == "PointsBinary" || name == "NormalsBinary") {
       return Error(line, fmt::format("<{}> (base64 binary points) is not supported: expected <Points> text "
                                      "(x y z triples)", name));
@@ -281,138 +352,153 @@ Status QifParser::OnStart(xmlTextReaderPtr r, std::string_view name, std::size_t
   return Status::Ok();
 }
 
-// Numbers of a <Points>/<Normals> text node, counting lines as it goes.
-// Numbers of one piece of <Points>/<Normals> text: values, the newlines before each (within
-// the piece), the piece's newlines, and the first token that is not a finite number.
-struct NumberScan {
-  std::vector<double> values;
-  std::vector<std::uint32_t> line_of;
-  std::size_t newlines = 0;
-  bool bad = false;
-  std::string_view bad_token;
-  std::size_t bad_line = 0;
-};
-
 inline bool QifBlank(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-void ScanNumbers(std::string_view text, NumberScan* out) {
-  const char* p = text.data();
-  const char* end = p + text.size();
-  out->values.reserve(text.size() / 8 + 1);
-  out->line_of.reserve(text.size() / 8 + 1);
-  while (true) {
-    while (p < end && QifBlank(*p)) {
-      if (*p == '\n') ++out->newlines;
-      ++p;
-    }
-    if (p >= end) return;
-    const char* b = p;
-    while (p < end && !QifBlank(*p)) ++p;
-    const char* nb = (*b == '+' && p - b > 1) ? b + 1 : b;
-    double v = 0;
-    auto res = fast_float::from_chars(nb, p, v);
-    if (res.ec != std::errc() || res.ptr != p || !std::isfinite(v)) {
-      out->bad = true;
-      out->bad_token = std::string_view(b, static_cast<std::size_t>(p - b));
-      out->bad_line = out->newlines;
-      return;
-    }
-    out->values.push_back(v);
-    out->line_of.push_back(static_cast<std::uint32_t>(out->newlines));
-  }
+// The token [b, e) as a finite number (an optional leading '+', then what fast_float reads).
+inline bool QifToken(const char* b, const char* e, double* v) {
+  const char* nb = (*b == '+' && e - b > 1) ? b + 1 : b;
+  auto res = fast_float::from_chars(nb, e, *v);
+  return res.ec == std::errc() && res.ptr == e && std::isfinite(*v);
 }
 
-Status QifParser::Take(double v, std::size_t line) {
-  if (in_triple_ == 0) triple_line_ = line;
-  triple_[in_triple_++] = v;
-  if (in_triple_ < 3) return Status::Ok();
-  in_triple_ = 0;
+Status QifParser::TakeNormal() {
   const Eigen::Vector3d t(triple_[0], triple_[1], triple_[2]);
-  if (block_ == Block::kPoints) {
-    cur_set_->xyz.push_back(t);
-    cur_set_->xyz_line.push_back(triple_line_);
-    return Status::Ok();
-  }
   const double len = t.norm();
   if (!(len > 1e-12) || std::abs(len - 1.0) > 1e-3)
     return Error(triple_line_, fmt::format("normal ({} {} {}) of MeasuredPointSet id=\"{}\" has length {:.6g}: "
                                            "expected a unit vector", t.x(), t.y(), t.z(), cur_set_id_, len));
-  cur_set_->normal.push_back(std::abs(len - 1.0) > 1e-14 ? Eigen::Vector3d(t / len) : t);  // as the CSV reader
+  normal_.push_back(std::abs(len - 1.0) > 1e-14 ? Eigen::Vector3d(t / len) : t);  // as the CSV reader
+  ++cur_set_->n_normal;
   return Status::Ok();
 }
 
-// Large texts (a scan's <Points>) are scanned in parallel pieces split at blanks, then taken in
-// file order, so values, lines and the first error are those of a serial scan.
+// Numbers of a <Points>/<Normals> text, one at a time, counting lines as it goes.
 Status QifParser::OnNumbers(std::string_view text) {
-  constexpr std::size_t kParallelBytes = std::size_t{1} << 22;
-  std::size_t pieces = 1;
-  if (text.size() >= kParallelBytes) {
-    const std::size_t hw = options_.threads > 0 ? static_cast<std::size_t>(options_.threads)
-                                                : std::max(1u, std::thread::hardware_concurrency());
-    pieces = std::min(hw, text.size() / (kParallelBytes / 4));
-  }
-  if (pieces == 1) {  // serial: straight into the point set
-    const char* p = text.data();
-    const char* end = p + text.size();
-    while (true) {
-      while (p < end && QifBlank(*p)) {
-        if (*p == '\n') ++block_line_;
-        ++p;
-      }
-      if (p >= end) return Status::Ok();
-      const char* tb = p;
-      while (p < end && !QifBlank(*p)) ++p;
-      const char* nb = (*tb == '+' && p - tb > 1) ? tb + 1 : tb;
-      double v = 0;
-      auto res = fast_float::from_chars(nb, p, v);
-      if (res.ec != std::errc() || res.ptr != p || !std::isfinite(v))
-        return Error(block_line_, fmt::format("{} in <{}> of MeasuredPointSet id=\"{}\": expected numbers, three per point",
-                                              QifEcho(std::string_view(tb, static_cast<std::size_t>(p - tb))),
-                                              block_ == Block::kPoints ? "Points" : "Normals", cur_set_id_));
-      TPCAL_RETURN_IF_ERROR(Take(v, block_line_));
+  const char* p = text.data();
+  const char* end = p + text.size();
+  while (true) {
+    while (p < end && QifBlank(*p)) {
+      if (*p == '\n') ++block_line_;
+      ++p;
     }
+    if (p >= end) return Status::Ok();
+    const char* tb = p;
+    while (p < end && !QifBlank(*p)) ++p;
+    double v = 0;
+    if (!QifToken(tb, p, &v))
+      return Error(block_line_, fmt::format("{} in <{}> of MeasuredPointSet id=\"{}\": expected numbers, three per point",
+                                            QifEcho(std::string_view(tb, static_cast<std::size_t>(p - tb))),
+                                            block_ == Block::kPoints ? "Points" : "Normals", cur_set_id_));
+    TPCAL_RETURN_IF_ERROR(Take(v, block_line_));
   }
+}
+
+// Pieces of `text` for the parallel parse: about `n` of them, cut at blanks.
+std::vector<std::string_view> SplitAtBlanks(std::string_view text, std::size_t n) {
   std::vector<std::string_view> parts;
   std::size_t b = 0;
-  for (std::size_t k = 1; k <= pieces; ++k) {
-    std::size_t e = k == pieces ? text.size() : std::max(b, text.size() * k / pieces);
+  for (std::size_t k = 1; k <= n; ++k) {
+    std::size_t e = k == n ? text.size() : std::max(b, text.size() * k / n);
     while (e < text.size() && !QifBlank(text[e])) ++e;
     parts.push_back(text.substr(b, e - b));
     b = e;
   }
-  std::vector<NumberScan> scans(parts.size());
-  {
-    std::vector<std::thread> workers;
-    for (std::size_t k = 1; k < parts.size(); ++k) workers.emplace_back(ScanNumbers, parts[k], &scans[k]);
-    ScanNumbers(parts[0], &scans[0]);
-    for (std::thread& w : workers) w.join();
+  return parts;
+}
+
+// A large plain block on all threads, in two passes: each piece counts its tokens and newlines,
+// then parses its numbers straight into their places in xyz_ (or normal_): the same values and
+// lines as OnNumbers. False, with nothing changed, when a token is not a number, the block does
+// not hold whole triples or a normal is off unit length: OnNumbers then says which.
+bool QifParser::ParsePlainParallel(std::string_view text, std::size_t pieces) {
+  const std::vector<std::string_view> parts = SplitAtBlanks(text, pieces);
+  std::vector<std::size_t> tokens(parts.size(), 0), newlines(parts.size(), 0);
+  ParallelForEach(parts.size(), true, [&](std::size_t k) {
+    bool in_token = false;
+    std::size_t n_tokens = 0, n_newlines = 0;  // local: the pieces' counters share a cache line
+    for (char c : parts[k]) {
+      const bool blank = QifBlank(c);
+      n_tokens += !blank && !in_token;
+      n_newlines += c == '\n';
+      in_token = !blank;
+    }
+    tokens[k] = n_tokens;
+    newlines[k] = n_newlines;
+  });
+  std::size_t total = 0;
+  for (std::size_t t : tokens) total += t;
+  if (total % 3 != 0) return false;
+  const bool points = block_ == Block::kPoints;
+  std::vector<Eigen::Vector3d>& dst = points ? xyz_ : normal_;
+  const std::size_t base = dst.size(), n_new = total / 3;
+  dst.resize(base + n_new);
+  if (points) xyz_line_.resize(base + n_new);
+  std::vector<char> ok(parts.size(), 1);
+  std::vector<std::size_t> first_token(parts.size(), 0), first_line(parts.size(), block_line_);
+  for (std::size_t k = 1; k < parts.size(); ++k) {
+    first_token[k] = first_token[k - 1] + tokens[k - 1];
+    first_line[k] = first_line[k - 1] + newlines[k - 1];
   }
-  for (const NumberScan& sc : scans) {
-    for (std::size_t j = 0; j < sc.values.size(); ++j) TPCAL_RETURN_IF_ERROR(Take(sc.values[j], block_line_ + sc.line_of[j]));
-    if (sc.bad)
-      return Error(block_line_ + sc.bad_line,
-                   fmt::format("{} in <{}> of MeasuredPointSet id=\"{}\": expected numbers, three per point",
-                               QifEcho(sc.bad_token), block_ == Block::kPoints ? "Points" : "Normals", cur_set_id_));
-    block_line_ += sc.newlines;
+  ParallelForEach(parts.size(), true, [&](std::size_t k) {
+    const char* p = parts[k].data();
+    const char* end = p + parts[k].size();
+    std::size_t t = first_token[k], line = first_line[k];
+    while (true) {
+      while (p < end && QifBlank(*p)) line += *p++ == '\n';
+      if (p >= end) return;
+      const char* tb = p;
+      while (p < end && !QifBlank(*p)) ++p;
+      double v = 0;
+      if (!QifToken(tb, p, &v)) {
+        ok[k] = 0;
+        return;
+      }
+      dst[base + t / 3][static_cast<Eigen::Index>(t % 3)] = v;
+      if (points && t % 3 == 0) xyz_line_[base + t / 3] = line;
+      ++t;
+    }
+  });
+  bool good = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+  for (std::size_t i = base; good && !points && i < dst.size(); ++i) {
+    const double len = dst[i].norm();  // as TakeNormal
+    good = len > 1e-12 && std::abs(len - 1.0) <= 1e-3;
+    if (good && std::abs(len - 1.0) > 1e-14) dst[i] /= len;
   }
-  return Status::Ok();
+  if (!good) {
+    dst.resize(base);
+    if (points) xyz_line_.resize(base);
+    return false;
+  }
+  (points ? cur_set_->n : cur_set_->n_normal) += n_new;
+  block_line_ = first_line.back() + newlines.back();
+  return true;
+}
+
+// At the first <Points> (<Normals>) block, room for the triples the document can plausibly hold
+// (>= 24 bytes each: "x y z" at about 8 bytes a number): one allocation for a scan, no copies
+// as it grows; pages never written cost nothing.
+void QifParser::ReserveFor(std::vector<Eigen::Vector3d>* v) {
+  if (v->capacity() != 0) return;
+  const std::size_t n = text_bytes_ / 24 + 16;
+  v->reserve(n);
+  if (v == &xyz_) xyz_line_.reserve(n);
 }
 
 Status QifParser::FinishSet() {
   QifPointSet& s = *cur_set_;
-  if (s.xyz.empty()) return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" has no <Points>: expected x y z triples", cur_set_id_));
-  if (s.count_attr != 0 && s.count_attr != s.xyz.size())
+  if (s.n == 0) return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" has no <Points>: expected x y z triples", cur_set_id_));
+  if (s.count_attr != 0 && s.count_attr != s.n)
     return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" says count=\"{}\" but holds {} points: expected "
-                                     "them to agree", cur_set_id_, s.count_attr, s.xyz.size()));
-  if (!s.normal.empty() && s.normal.size() != s.xyz.size())
+                                     "them to agree", cur_set_id_, s.count_attr, s.n));
+  if (s.n_normal != 0 && s.n_normal != s.n)
     return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" has {} points and {} normals: expected one normal "
-                                     "per point", cur_set_id_, s.xyz.size(), s.normal.size()));
+                                     "per point", cur_set_id_, s.n, s.n_normal));
   if (s.compensated.has_value() && !*s.compensated) {
     if (!s.probe_radius.has_value() && !options_.accept_uncompensated)
       return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" is not probe-compensated (<Compensated>false) and "
                                        "gives no <ProbeRadius>: expected compensated points or the probe radius",
                                        cur_set_id_));
-    if (s.normal.empty() && !options_.accept_uncompensated)
+    if (s.n_normal == 0 && !options_.accept_uncompensated)
       return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" is not probe-compensated (<Compensated>false, "
                                        "ProbeRadius {}) and has no <Normals> to compensate along: expected "
                                        "compensated points or normals",
@@ -475,6 +561,133 @@ Status QifParser::OnEnd(std::string_view name, std::size_t line) {
   return Status::Ok();
 }
 
+void QifParser::Fail(Status s) {
+  if (failure_.ok()) failure_ = std::move(s);
+  xmlStopParser(ctxt_);
+}
+
+void QifParser::SaxStart(void* self, const xmlChar* local, const xmlChar*, const xmlChar*, int, const xmlChar**,
+                         int n_attrs, int, const xmlChar** attrs) {
+  auto* p = static_cast<QifParser*>(self);
+  if (!p->failure_.ok()) return;
+  const std::string_view name = local != nullptr ? reinterpret_cast<const char*>(local) : "";
+  if (Status s = p->OnElement(name, XmlAttrs{attrs, n_attrs}); !s.ok()) p->Fail(std::move(s));
+}
+
+Status QifParser::OnElement(std::string_view name, const XmlAttrs& attrs) {
+  const std::size_t line = ParserLine();
+  if (!saw_root_) {
+    saw_root_ = true;
+    if (name != "QIFDocument") return Error(line, fmt::format("root element <{}>: expected <QIFDocument> (QIF 3.0)", name));
+  }
+  if (block_ != Block::kNone) return Error(line, fmt::format("<{}> inside <Points>/<Normals>: expected only numbers", name));
+  TPCAL_RETURN_IF_ERROR(OnStart(attrs, name, line));  // sees its parent on top of the stack
+  stack_.push_back(name);
+  return Status::Ok();
+}
+
+void QifParser::SaxEnd(void* self, const xmlChar*, const xmlChar*, const xmlChar*) {
+  auto* p = static_cast<QifParser*>(self);
+  if (!p->failure_.ok() || p->stack_.empty()) return;
+  Status s = p->block_ != Block::kNone ? p->FlushCarry() : Status::Ok();
+  if (s.ok()) s = p->OnEnd(p->stack_.back(), p->ParserLine());
+  p->stack_.pop_back();
+  if (!s.ok()) p->Fail(std::move(s));
+}
+
+void QifParser::SaxText(void* self, const xmlChar* text, int len) {
+  auto* p = static_cast<QifParser*>(self);
+  if (!p->failure_.ok() || len <= 0) return;
+  const std::string_view value(reinterpret_cast<const char*>(text), static_cast<std::size_t>(len));
+  if (p->block_ != Block::kNone) {
+    if (p->parsed_until_ != 0 && p->RawOffset(text).value_or(SIZE_MAX) < p->parsed_until_) return;
+    if (Status s = p->OnBlockText(value); !s.ok()) p->Fail(std::move(s));
+  } else if (p->text_.size() < 4096) {
+    p->text_.append(value);
+  }
+}
+
+void QifParser::SaxComment(void* self, const xmlChar* text) {
+  auto* p = static_cast<QifParser*>(self);
+  if (!p->failure_.ok() || p->block_ == Block::kNone || text == nullptr) return;
+  if (Status s = p->FlushCarry(); !s.ok()) return p->Fail(std::move(s));  // a comment ends a number
+  for (const xmlChar* c = text; *c != 0; ++c) p->block_line_ += *c == '\n' ? 1 : 0;
+}
+
+// libxml2 gives a text in pieces (one for a plain ASCII <Points> text, more around CR LF, entity
+// references and non-ASCII bytes); a number cut at a piece's end is carried to the next piece.
+Status QifParser::OnBlockText(std::string_view text) {
+  if (!carry_.empty()) {
+    std::size_t k = 0;
+    while (k < text.size() && !QifBlank(text[k])) ++k;
+    carry_.append(text.substr(0, k));
+    if (k == text.size()) return Status::Ok();
+    TPCAL_RETURN_IF_ERROR(FlushCarry());
+    text.remove_prefix(k);
+  }
+  std::size_t tail = text.size();
+  while (tail > 0 && !QifBlank(text[tail - 1])) --tail;
+  TPCAL_RETURN_IF_ERROR(OnNumbers(text.substr(0, tail)));
+  carry_.assign(text.substr(tail));
+  return Status::Ok();
+}
+
+// File offset of `at`, a position in libxml2's input buffer; none when libxml2 converts the
+// file's encoding (its buffer then no longer holds the file's bytes).
+std::optional<std::size_t> QifParser::RawOffset(const xmlChar* at) const {
+  const xmlParserInputPtr in = ctxt_->input;
+  if (in == nullptr || in->buf == nullptr || in->buf->encoder != nullptr || at < in->base || at > in->end)
+    return std::nullopt;
+  const std::size_t read = static_cast<std::size_t>(src_.p - raw_.data());
+  const std::size_t behind = static_cast<std::size_t>(in->end - at);
+  if (behind > read) return std::nullopt;
+  return read - behind;
+}
+
+// Called at a <Points>/<Normals> start tag: the text after it, up to the next '<', is parsed
+// straight from the file's bytes (in parallel when large) and SaxText then skips it. Any text
+// that does not parse so (a character reference, a lone CR that libxml2 reads as a line end, a
+// bad number) is undone here and reaches OnBlockText piece by piece from libxml2, which gives
+// the same points, lines and errors.
+Status QifParser::ParsePlainBlock() {
+  const std::optional<std::size_t> at = RawOffset(ctxt_->input->cur);  // libxml2 stands on the '>'
+  if (!at || *at >= raw_.size() || raw_[*at] != '>') return Status::Ok();
+  const std::size_t b = *at + 1;
+  const std::size_t e = std::min(raw_.find('<', b), raw_.size());
+  const std::string_view block = raw_.substr(b, e - b);
+  for (std::size_t cr = block.find('\r'); cr != std::string_view::npos; cr = block.find('\r', cr + 1))
+    if (cr + 1 == block.size() || block[cr + 1] != '\n') return Status::Ok();
+  const std::size_t n_xyz = xyz_.size(), n_normal = normal_.size(), set_n = cur_set_->n, set_nn = cur_set_->n_normal;
+  const std::size_t line = block_line_;
+  const std::string_view text = block;
+  constexpr std::size_t kPieceBytes = std::size_t{1} << 17;  // 128 KiB: a piece is worth a task
+  const std::size_t threads = options_.threads > 0 ? static_cast<std::size_t>(options_.threads) : HardwareThreads();
+  const std::size_t pieces = std::min(threads, text.size() / kPieceBytes);
+  if (pieces > 1 && ParsePlainParallel(text, pieces)) {
+    parsed_until_ = e;
+    return Status::Ok();
+  }
+  if (OnNumbers(text).ok()) {
+    parsed_until_ = e;
+    return Status::Ok();
+  }
+  xyz_.resize(n_xyz);
+  xyz_line_.resize(n_xyz);
+  normal_.resize(n_normal);
+  cur_set_->n = set_n;
+  cur_set_->n_normal = set_nn;
+  block_line_ = line;
+  in_triple_ = 0;
+  return Status::Ok();
+}
+
+Status QifParser::FlushCarry() {
+  if (carry_.empty()) return Status::Ok();
+  const std::string token = std::move(carry_);
+  carry_.clear();
+  return OnNumbers(token);
+}
+
 Result<QifFile> QifParser::Run(std::string_view text) {
   if (text.size() > static_cast<std::size_t>(INT_MAX))
     return Error(0, "file larger than 2 GiB: expected a smaller QIF file (libxml2 limit)");
@@ -482,71 +695,102 @@ Result<QifFile> QifParser::Run(std::string_view text) {
   // libxml2's entity-expansion limits, so a document type declaration is refused up front.
   if (auto doctype = DoctypeLine(text); doctype != 0)
     return Error(doctype, "<!DOCTYPE ...>: expected no document type declaration (QIF 3.0 uses XML Schema)");
+  if (text.empty()) return Error(1, "malformed XML (the file is empty): expected a well-formed QIF document");
   text_bytes_ = text.size();
-  xmlTextReaderPtr r = xmlReaderForMemory(text.data(), static_cast<int>(text.size()), source_.c_str(), nullptr,
-                                          XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_BIG_LINES);
-  if (r == nullptr) return Error(1, "cannot start the XML reader: expected an XML document");
-  struct Closer {
-    xmlTextReaderPtr r;
-    ~Closer() { xmlFreeTextReader(r); }
-  } closer{r};
+  static std::once_flag init;
+  std::call_once(init, [] { xmlInitParser(); });
+  xmlSAXHandler sax;
+  std::memset(&sax, 0, sizeof(sax));
+  sax.initialized = XML_SAX2_MAGIC;
+  sax.startElementNs = &QifParser::SaxStart;
+  sax.endElementNs = &QifParser::SaxEnd;
+  sax.characters = sax.ignorableWhitespace = sax.cdataBlock = &QifParser::SaxText;
+  sax.comment = &QifParser::SaxComment;
 #if LIBXML_VERSION >= 21200
-  xmlTextReaderSetStructuredErrorHandler(r, &QifParser::OnXmlError, this);
+  sax.serror = &QifParser::OnXmlError;
 #else
-  xmlTextReaderSetStructuredErrorHandler(
-      r, [](void* self, xmlErrorPtr e) { QifParser::OnXmlError(self, e); }, this);
+  sax.serror = [](void* self, xmlErrorPtr e) { QifParser::OnXmlError(self, e); };
 #endif
-  bool saw_root = false;
-  int ret = 0;
-  while ((ret = xmlTextReaderRead(r)) == 1) {
-    const int type = xmlTextReaderNodeType(r);
-    if (type == XML_READER_TYPE_ELEMENT) {
-      const char* n = reinterpret_cast<const char*>(xmlTextReaderConstLocalName(r));
-      const std::string_view name = n != nullptr ? std::string_view(n) : std::string_view{};
-      const std::size_t line = static_cast<std::size_t>(std::max(1L, xmlGetLineNo(xmlTextReaderCurrentNode(r))));
-      if (!saw_root) {
-        saw_root = true;
-        if (name != "QIFDocument")
-          return Error(line, fmt::format("root element <{}>: expected <QIFDocument> (QIF 3.0)", name));
-      }
-      if (block_ != Block::kNone)
-        return Error(line, fmt::format("<{}> inside <Points>/<Normals>: expected only numbers", name));
-      const bool empty = xmlTextReaderIsEmptyElement(r) == 1;
-      TPCAL_RETURN_IF_ERROR(OnStart(r, name, line));  // sees its parent on top of the stack
-      stack_.push_back(name);
-      if (empty) {
-        TPCAL_RETURN_IF_ERROR(OnEnd(name, line));
-        stack_.pop_back();
-      }
-    } else if (type == XML_READER_TYPE_END_ELEMENT) {
-      if (stack_.empty()) break;  // libxml2 reports the error
-      const std::size_t line = static_cast<std::size_t>(std::max(1, xmlTextReaderGetParserLineNumber(r)));
-      TPCAL_RETURN_IF_ERROR(OnEnd(stack_.back(), line));
-      stack_.pop_back();
-    } else if (type == XML_READER_TYPE_TEXT || type == XML_READER_TYPE_CDATA ||
-               type == XML_READER_TYPE_WHITESPACE || type == XML_READER_TYPE_SIGNIFICANT_WHITESPACE ||
-               type == XML_READER_TYPE_COMMENT) {
-      const char* v = reinterpret_cast<const char*>(xmlTextReaderConstValue(r));
-      const std::string_view value = v != nullptr ? std::string_view(v) : std::string_view{};
-      if (block_ != Block::kNone) {
-        if (type == XML_READER_TYPE_COMMENT) {
-          for (char c : value) block_line_ += c == '\n' ? 1 : 0;
-        } else {
-          TPCAL_RETURN_IF_ERROR(OnNumbers(value));
-        }
-      } else if (type != XML_READER_TYPE_COMMENT && text_.size() < 4096) {
-        text_.append(value);
-      }
-    }
-  }
-  if (ret < 0 || xml_error_line_ != 0) {
-    const std::size_t line = xml_error_line_ != 0 ? xml_error_line_
-                                                  : static_cast<std::size_t>(std::max(1, xmlTextReaderGetParserLineNumber(r)));
+  // libxml2 pulls the text in 4 kB pieces through a read callback: its buffer stays small and
+  // warm (a memory input of 2.9 copies the whole file into fresh memory first).
+  raw_ = text;
+  src_ = {text.data(), text.size()};
+  auto read = [](void* ctx, char* out, int len) -> int {
+    auto* s = static_cast<Source*>(ctx);
+    const std::size_t n = std::min(s->left, static_cast<std::size_t>(std::max(len, 0)));
+    std::memcpy(out, s->p, n);
+    s->p += n;
+    s->left -= n;
+    return static_cast<int>(n);
+  };
+  ctxt_ = xmlCreateIOParserCtxt(&sax, this, read, nullptr, &src_, XML_CHAR_ENCODING_NONE);
+  if (ctxt_ == nullptr || ctxt_->sax == nullptr) return Error(1, "cannot start the XML parser: expected an XML document");
+  struct Closer {
+    xmlParserCtxtPtr c;
+    ~Closer() { xmlFreeParserCtxt(c); }
+  } closer{ctxt_};
+  xmlCtxtUseOptions(ctxt_, XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_BIG_LINES);
+  const int ret = xmlParseDocument(ctxt_);
+  if (!failure_.ok()) return failure_;
+  if (ret != 0 || !ctxt_->wellFormed || xml_error_line_ != 0) {
+    const std::size_t line = xml_error_line_ != 0 ? xml_error_line_ : ParserLine();
     return Error(line, fmt::format("malformed XML ({}): expected a well-formed QIF document",
                                    xml_error_.empty() ? "parse error" : xml_error_));
   }
-  if (!saw_root) return Error(1, "no XML element: expected a QIF 3.0 document (<QIFDocument>)");
+  if (!saw_root_) return Error(1, "no XML element: expected a QIF 3.0 document (<QIFDocument>)");
   return Assemble();
+}
+
+// The planned points into `ps` in mm. A plan that is every point in file order, none moved by
+// the reader (a scan, a plain CMM export), takes the parsed arrays without a copy; any other plan
+// gathers them, moving probe centres by -radius along their normals.
+void QifParser::EmitPoints(const std::vector<QifEmit>& plan, double mm_per_unit, PointSet* ps) {
+  bool in_order = true, all_normals = true;
+  std::size_t next = 0, total = 0;
+  for (const QifEmit& e : plan) {
+    const QifPointSet& s = *e.set;
+    in_order = in_order && s.first + e.first - 1 == next && !MovedByReader(s) &&
+               (s.n_normal == 0 || s.normal_first == s.first);
+    next = s.first + e.last;
+    total += e.last - e.first + 1;
+    all_normals = all_normals && s.n_normal != 0;
+  }
+  ps->feature.reserve(total);
+  for (const QifEmit& e : plan) ps->feature.insert(ps->feature.end(), e.last - e.first + 1, e.feature);
+  if (in_order && next == xyz_.size() && (!all_normals || normal_.size() == xyz_.size())) {
+    ps->xyz_mm = std::move(xyz_);
+    if (mm_per_unit != 1.0)
+      for (Eigen::Vector3d& p : ps->xyz_mm) p *= mm_per_unit;
+    ps->line = std::move(xyz_line_);
+    if (all_normals) ps->normal = std::move(normal_);
+    return;
+  }
+  std::vector<double> compensation_mm;
+  bool any_compensated = false;
+  ps->xyz_mm.reserve(total);
+  ps->line.reserve(total);
+  if (all_normals) ps->normal.reserve(total);
+  compensation_mm.reserve(total);
+  for (const QifEmit& e : plan) {
+    const QifPointSet& s = *e.set;
+    const bool moved = MovedByReader(s);
+    const double r = moved ? *s.probe_radius : 0.0;
+    any_compensated = any_compensated || (moved && r != 0.0);
+    for (std::size_t i = e.first - 1; i < e.last; ++i) {
+      Eigen::Vector3d p = xyz_[s.first + i];
+      if (moved) p -= r * normal_[s.normal_first + i];
+      ps->xyz_mm.push_back(p * mm_per_unit);
+      ps->line.push_back(xyz_line_[s.first + i]);
+      compensation_mm.push_back(r * mm_per_unit);
+      if (all_normals) ps->normal.push_back(normal_[s.normal_first + i]);
+    }
+  }
+  if (any_compensated) {
+    PointAttribute a;
+    a.name = "probe_compensation_mm";
+    a.values = std::move(compensation_mm);
+    ps->attributes.push_back(std::move(a));
+  }
 }
 
 Result<QifFile> QifParser::Assemble() {
@@ -570,36 +814,9 @@ Result<QifFile> QifParser::Assemble() {
   if (sets_.empty())
     return Error(1, "no <MeasuredPointSet>: expected measured points (a QIF results file with <MeasuredPointSets>)");
 
+  std::vector<QifEmit> plan;
   PointSet& ps = out.file.points;
   ps.source = source_;
-  std::vector<Eigen::Vector3d> normals;
-  std::vector<double> compensation_mm;
-  bool all_normals = true, any_compensated = false;
-  const double scale = rep.mm_per_unit;
-  std::size_t total = 0;
-  for (const auto& [id, s] : sets_) total += s.xyz.size();
-  ps.xyz_mm.reserve(total);
-  ps.feature.reserve(total);
-  ps.line.reserve(total);
-  normals.reserve(total);
-  compensation_mm.reserve(total);
-  auto emit = [&](QifPointSet& s, std::size_t first, std::size_t last, int feature) {
-    const bool moved = s.compensated.has_value() && !*s.compensated && s.probe_radius.has_value() && !s.normal.empty();
-    const double r = moved ? *s.probe_radius : 0.0;
-    any_compensated = any_compensated || (moved && r != 0.0);
-    for (std::size_t k = first; k <= last; ++k) {
-      const std::size_t i = k - 1;
-      Eigen::Vector3d p = s.xyz[i];
-      if (moved) p -= r * s.normal[i];
-      ps.xyz_mm.push_back(p * scale);
-      ps.feature.push_back(feature);
-      ps.line.push_back(s.xyz_line[i]);
-      compensation_mm.push_back(r * scale);
-      if (s.normal.empty()) all_normals = false;
-      else normals.push_back(s.normal[i]);
-    }
-  };
-
   std::map<std::string, std::size_t> covered;  // set id -> points emitted from it
   for (const QifMeasurement& m : measurements_) {
     if (m.refs.empty()) continue;  // a constructed or fitted-only feature: no points
@@ -620,7 +837,7 @@ Result<QifFile> QifParser::Assemble() {
         return Error(ref.line, fmt::format("point list names MeasuredPointSet id=\"{}\", which the file does not hold: "
                                            "expected the id of a <MeasuredPointSet>", ref.set_id));
       }
-      const std::size_t n = s->second.xyz.size();
+      const std::size_t n = s->second.n;
       std::size_t first = 1, last = n;
       if (ref.kind != QifRef::Kind::kWhole) {
         first = ref.first;
@@ -631,35 +848,29 @@ Result<QifFile> QifParser::Assemble() {
       }
       s->second.referenced = true;
       covered[ref.set_id] += last - first + 1;
-      emit(s->second, first, last, feature);
+      plan.push_back({&s->second, first, last, feature});
     }
   }
   for (const std::string& id : set_order_) {
     QifPointSet& s = sets_[id];
     if (s.referenced) {
-      if (covered[id] < s.xyz.size()) rep.dropped_points += s.xyz.size() - covered[id];
+      if (covered[id] < s.n) rep.dropped_points += s.n - covered[id];
       continue;
     }
     if (!options_.lenient_references)
       return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" belongs to no feature: expected a feature "
                                        "measurement whose <PointList> names it", id));
     ++rep.unreferenced_sets;
-    emit(s, 1, s.xyz.size(), PointSet::kUnlabelled);
+    plan.push_back({&s, 1, s.n, PointSet::kUnlabelled});
   }
+  EmitPoints(plan, rep.mm_per_unit, &ps);
   for (const auto& [id, s] : sets_) {
     if (s.compensated.has_value() && !*s.compensated) {
-      if (s.probe_radius.has_value() && !s.normal.empty()) ++rep.sets_compensated_by_reader;
+      if (MovedByReader(s)) ++rep.sets_compensated_by_reader;
       else ++rep.sets_read_as_centres;
     }
   }
   if (ps.xyz_mm.empty()) return Error(1, "no point belongs to a feature: expected feature measurements with <PointList>s");
-  if (all_normals) ps.normal = std::move(normals);
-  if (any_compensated) {
-    PointAttribute a;
-    a.name = "probe_compensation_mm";
-    a.values = std::move(compensation_mm);
-    ps.attributes.push_back(std::move(a));
-  }
   out.file.info.format = PointFormat::kQif;
   out.file.info.source_units = std::abs(rep.mm_per_unit - kMmPerInch) < 1e-9 ? LengthUnit::kInch : LengthUnit::kMm;
   return out;

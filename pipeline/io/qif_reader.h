@@ -1,7 +1,7 @@
 // QIF 3.0 measurement results (docs/formats/qif.md): the measured points of every
 // <MeasuredPointSet>, labelled by the feature whose measurement's <PointList> refers to them
-// (<FeatureItemId> -> the feature item's <FeatureName>), in mm. Parsed with libxml2's
-// streaming reader (xmlTextReader), so a scan of 10^6 points is never held as a DOM.
+// (<FeatureItemId> -> the feature item's <FeatureName>), in mm. Parsed with libxml2's SAX2
+// parser, so a scan of 10^6 points is never held as a DOM and its <Points> text is read in place.
 //
 // Rules (docs/formats/qif.md states each):
 //  * Units from <FileUnits><PrimaryUnits><LinearUnit>: <UnitConversion><Factor> (to metres)
@@ -42,8 +42,8 @@ struct QifReadOptions {
   // Unreferenced point sets become unlabelled points; PointList entries naming a missing set
   // are skipped. Off: both are errors.
   bool lenient_references = false;
-  // Threads scanning the numbers of a large <Points>/<Normals> text (>= 4 MB): 0 = all hardware
-  // threads, 1 = serial. The result does not depend on it.
+  // Threads parsing the numbers of a large plain <Points>/<Normals> text (128 KiB or more per
+  // thread): 0 = all threads (core's limit), 1 = serial. The result does not depend on it.
   int threads = 0;
 };
 

@@ -173,14 +173,16 @@ TEST(QifReader, PublishedSampleReadsAsCentresWithLenientReferences) {
   EXPECT_EQ(ps.feature.back(), PointSet::kUnlabelled);
 }
 
-// A scan-sized <Points> text (> 4 MB) is scanned in parallel pieces: the same points, lines and
+// A scan-sized <Points> text is parsed in parallel pieces: the same points, normals, lines and
 // first error as the serial scan.
 TEST(QifReader, ParallelScanOfLargePointsEqualsSerial) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-300, 300);
   PointSet ps;
   for (int i = 0; i < 200000; ++i) {
-    ps.xyz_mm.emplace_back(u(rng), u(rng), u(rng));
+    const double x = u(rng), y = u(rng), z = u(rng);  // drawn in this order under every compiler
+    ps.xyz_mm.emplace_back(x, y, z);
+    ps.normal.push_back(Eigen::Vector3d(y, z, x).normalized());
     ps.feature.push_back(ps.InternFeature("SCAN"));
   }
   std::string text = FormatPointQif(ps);
@@ -194,6 +196,8 @@ TEST(QifReader, ParallelScanOfLargePointsEqualsSerial) {
   ASSERT_EQ(a->file.points.size(), 200000u);
   EXPECT_EQ(a->file.points.xyz_mm, b->file.points.xyz_mm);
   EXPECT_EQ(a->file.points.line, b->file.points.line);
+  EXPECT_EQ(a->file.points.normal, b->file.points.normal);
+  EXPECT_EQ(a->file.points.normal[7], ps.normal[7]);
   EXPECT_EQ(a->file.points.xyz_mm[123456], ps.xyz_mm[123456]);
   // A bad token three quarters in.
   const std::size_t at = text.find('\n', text.size() * 3 / 4) + 1;
@@ -204,6 +208,35 @@ TEST(QifReader, ParallelScanOfLargePointsEqualsSerial) {
   ASSERT_FALSE(eb.ok());
   EXPECT_EQ(ea.status().ToString(), eb.status().ToString());
   EXPECT_NE(ea.status().message().find("'1.5e'"), std::string::npos) << ea.status().ToString();
+}
+
+// A plain <Points> text is parsed from the file's bytes; any other (a comment, a character
+// reference, CR line ends) reaches the reader in libxml2's pieces, with numbers cut at a piece's
+// end carried over. Truth: both give the same points and lines; a comment ends a number.
+TEST(QifReader, PlainAndPiecewisePointsTextsReadAlike) {
+  auto read = [](const std::string& points_text) {
+    const std::string set = "<MeasuredPointSet id=\"10\"><Points>" + points_text + "</Points></MeasuredPointSet>\n";
+    return ParseQif(Doc(kMm, kPlaneWhole10, set), "t.qif");
+  };
+  auto plain = read("\n1.25 2 3\n4 5 6\n");
+  ASSERT_TRUE(plain.ok()) << plain.status().ToString();
+  for (const std::string& text : {std::string("\r\n1.25 2 3\r\n4 5 6\r\n"), std::string("\n1.2&#53; 2 3\n4 5 6\n"),
+                                  std::string("\n1.25 2<!-- c\n -->3\n4 5 6\n"), std::string("\n1.25&#x20;2 3\n4 5 6\n")}) {
+    auto other = read(text);
+    ASSERT_TRUE(other.ok()) << other.status().ToString();
+    EXPECT_EQ(other->file.points.xyz_mm, plain->file.points.xyz_mm) << text;
+  }
+  auto lines = read("\n1.25 2<!-- c\n -->\n3 4 5 6\n");
+  ASSERT_TRUE(lines.ok());
+  EXPECT_EQ(lines->file.points.line, (std::vector<std::size_t>{14, 16}));
+  EXPECT_EQ(plain->file.points.line, (std::vector<std::size_t>{14, 15}));
+  auto cut = read("\n1.2<!-- -->5 2\n4 5 6\n");  // "1.2" and "5": a number does not run across a comment
+  ASSERT_TRUE(cut.ok());
+  EXPECT_EQ(cut->file.points.xyz_mm[0], Eigen::Vector3d(1.2, 5, 2));
+  auto bad = read("\n1 2 3\n4 5 caf\xC3\xA9\n");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().line(), 15u);
+  EXPECT_NE(bad.status().message().find("'caf\xC3\xA9' in <Points>"), std::string::npos) << bad.status().ToString();
 }
 
 struct QifBadCase {
