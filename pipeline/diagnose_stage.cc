@@ -66,7 +66,11 @@ Result<LoadedPiece> LoadDiagnosisPiece(const DiagnoseRequest& r) {
 }
 
 Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const DiagnoseRequest& r) {
-  auto points = ReadLabelledPoints(r.points_path, setup.piece, r.labelling);
+  auto columns = ParsePointColumns(r.columns);
+  if (!columns.ok()) return columns.status();
+  PointReadOptions read;
+  read.columns = std::move(*columns);
+  auto points = ReadLabelledPoints(r.points_path, setup.piece, r.labelling, read);
   if (!points.ok()) return points.status();
   if (points->raw_scan && r.info) r.info("raw scan labelled: " + points->raw_scan->BriefReport());
   DiagnosisOptions options;

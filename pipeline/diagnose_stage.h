@@ -18,6 +18,7 @@ namespace tpcal::pipeline {
 
 struct DiagnoseRequest {
   std::string points_path{};
+  std::vector<std::string> columns{};  // --column ROLE=NAME: a table's column names (ParsePointColumns)
   std::string testpiece = "turning";  // NAME (testpieces/named_pieces.h)
   std::string config_path{};          // "" = NAME's defaults
   std::string machine_path{};         // "" = the piece's nominal machine

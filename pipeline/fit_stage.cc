@@ -35,6 +35,9 @@ Result<std::map<std::string, gdt::FeatureKind>> ParseFeatureTypes(const std::vec
 Result<gdt::InspectionResult> RunFitStage(const FitRequest& request) {
   PointReadOptions read_options;
   read_options.threads = request.threads;
+  auto columns = ParsePointColumns(request.columns);
+  if (!columns.ok()) return columns.status();
+  read_options.columns = std::move(*columns);
   auto points = ReadPoints(request.points_path, read_options);
   if (!points.ok()) return points.status();
   auto kinds = ParseFeatureTypes(request.types);

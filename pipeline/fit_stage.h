@@ -20,6 +20,7 @@ struct FitRequest {
   std::vector<std::string> types;  // FEATURE=KIND (line2, line3, plane, circle, cylinder, sphere, cone, point)
   std::string criterion;           // "" (as planned), ls or mz: the form criterion of every feature
   int threads = 0;                 // point parser threads (0 = all cores)
+  std::vector<std::string> columns;  // --column ROLE=NAME: a table's column names (ParsePointColumns)
   std::string testpiece;           // optional NAME; with it a configuration and a machine file
   std::string config_path;
   std::string machine_path;

@@ -63,7 +63,11 @@ Result<IdentificationReport> IdentifyPointFile(const IdentifyRequest& request) {
   auto setup = LoadPiece({.testpiece = request.testpiece, .config_path = request.config_path,
                           .machine_path = request.machine_path, .wording = {.name_piece_errors = true}});
   if (!setup.ok()) return setup.status();
-  auto points = ReadLabelledPoints(request.points_path, setup->piece, request.labelling);
+  auto columns = ParsePointColumns(request.columns);
+  if (!columns.ok()) return columns.status();
+  PointReadOptions read;
+  read.columns = std::move(*columns);
+  auto points = ReadLabelledPoints(request.points_path, setup->piece, request.labelling, read);
   if (!points.ok()) return points.status();
   auto info = [&](const std::string& line) {
     if (request.info) request.info(line);

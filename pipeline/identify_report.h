@@ -31,6 +31,7 @@ Result<IdentificationReport> BuildIdentificationReport(const testpieces::TestPie
 
 struct IdentifyRequest {
   std::string points_path{};
+  std::vector<std::string> columns{};   // --column ROLE=NAME: a table's column names (ParsePointColumns)
   std::string testpiece = "turning";    // NAME (testpieces/named_pieces.h)
   std::string config_path{};            // "" = NAME's defaults
   std::string machine_path{};           // "" = the piece's nominal machine

@@ -656,8 +656,8 @@ Result<std::optional<RawScanLabeling>> LabelIfRawScan(const testpieces::TestPiec
 }
 
 Result<LabelledPoints> ReadLabelledPoints(const std::string& path, const testpieces::TestPiece& piece,
-                                          const RawScanLabelingOptions& options) {
-  auto points = ReadPoints(path);
+                                          const RawScanLabelingOptions& options, const PointReadOptions& read) {
+  auto points = ReadPoints(path, read);
   if (!points.ok()) return points.status();
   auto labelled = LabelIfRawScan(piece, &*points, options);
   if (!labelled.ok()) return labelled.status();

@@ -50,6 +50,7 @@
 #include "core/frames.h"
 #include "core/point_set.h"
 #include "core/status.h"
+#include "pipeline/io/point_io.h"
 #include "testpieces/test_piece.h"
 
 namespace tpcal::pipeline {
@@ -126,8 +127,9 @@ struct LabelledPoints {
   PointSet points;                          // labelled (a raw scan: its labelled points)
   std::optional<RawScanLabeling> raw_scan;  // set when the file was a raw scan (LabelIfRawScan)
 };
-// Reads a point file (ReadPoints) and labels it if it is a raw scan (LabelIfRawScan). Errors: theirs.
+// Reads a point file (ReadPoints with `read`) and labels it if it is a raw scan (LabelIfRawScan).
+// Errors: theirs.
 Result<LabelledPoints> ReadLabelledPoints(const std::string& path, const testpieces::TestPiece& piece,
-                                          const RawScanLabelingOptions& options = {});
+                                          const RawScanLabelingOptions& options = {}, const PointReadOptions& read = {});
 
 }  // namespace tpcal::pipeline

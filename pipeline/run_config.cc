@@ -4,12 +4,14 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <map>
 #include <set>
 #include <type_traits>
 
 #include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/reference_instruments.h"
 #include "testpieces/named_pieces.h"
 #include "testpieces/piece_config.h"
@@ -53,6 +55,8 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
   if constexpr (std::is_same_v<T, std::string>) printable = PrintableText(value);
   if constexpr (std::is_same_v<T, std::vector<std::string>>)
     for (const std::string& v : value) printable = printable && PrintableText(v);
+  if constexpr (std::is_same_v<T, std::map<std::string, std::string>>)
+    for (const auto& [k, v] : value) printable = printable && PrintableText(k) && PrintableText(v);
   if (!printable)
     return ParseErrorAt(source, node, "'" + EchoInput(key) + "': expected " + expected +
                                           " in printable UTF-8 of at most " +
@@ -124,12 +128,20 @@ Status PipelineConfig::Validate() const {
                   "'reference': instrument ballbar needs its set-up (reference.setup / --reference-setup S.yaml, "
                   "tpcal.ballbar_setup/1)", source);
   if (Status s = scan_cells.Validate(); !s.ok()) return s.WithLocation(source);
+  PointReadOptions read;
+  read.columns = columns;
+  if (Status s = read.Validate(); !s.ok()) return Status(s.code(), "'columns': " + s.message(), source);
   return Status::Ok();
 }
 
 Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOverrides& o, bool batch) {
   if (!o.testpiece.empty()) c.testpiece = o.testpiece;
   if (!o.points.empty()) c.points = o.points;
+  if (!o.columns.empty()) {
+    auto columns = ParsePointColumns(o.columns);
+    if (!columns.ok()) return columns.status();
+    c.columns = std::move(*columns);
+  }
   if (!o.machine.empty()) c.machine = o.machine;
   if (!o.truth.empty()) c.truth = o.truth;
   if (!o.parameters.empty()) c.parameters = o.parameters;
@@ -176,6 +188,13 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
       auto s = str();
       if (!s.ok()) return s.status();
       (key == "points" ? c.points : key == "machine" ? c.machine : c.truth) = Resolve(source, *s);
+    } else if (key == "columns") {
+      auto m = As<std::map<std::string, std::string>>(source, v, key, "a map of role: column name");
+      if (!m.ok()) return m.status();
+      c.columns.assign(m->begin(), m->end());
+      PointReadOptions read;
+      read.columns = c.columns;
+      if (Status s = read.Validate(); !s.ok()) return ParseErrorAt(source, v, "'columns': " + s.message());
     } else if (key == "out") {
       auto s = str();
       if (!s.ok()) return s.status();
@@ -279,7 +298,7 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
     } else {
       return ParseErrorAt(source, kv.first,
                           "unknown key '" + EchoInput(key) +
-                              "' (expected schema, testpiece, points, machine, parameters, seed, uncertainty, "
+                              "' (expected schema, testpiece, points, columns, machine, parameters, seed, uncertainty, "
                               "diagnose, keep_outliers, truth, reference, raw_scan, scan_cells, report, out)");
     }
   }
@@ -315,6 +334,11 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
   e << YAML::Key << "schema" << YAML::Value << "tpcal.pipeline/1";
   e << YAML::Key << "testpiece" << YAML::Value << c.testpiece;
   e << YAML::Key << "points" << YAML::Value << c.points;
+  if (!c.columns.empty()) {  // written only when set: a run without a mapping echoes as before
+    e << YAML::Key << "columns" << YAML::Value << YAML::BeginMap;
+    for (const auto& [role, name] : c.columns) e << YAML::Key << role << YAML::Value << name;
+    e << YAML::EndMap;
+  }
   e << YAML::Key << "machine" << YAML::Value << c.machine;
   e << YAML::Key << "parameters" << YAML::Value << YAML::Flow << c.parameters;
   e << YAML::Key << "seed" << YAML::Value << c.seed;

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/status.h"
@@ -42,6 +43,9 @@ struct PipelineConfig {
   std::string source;       // the YAML file ("" when built from flags)
   std::string testpiece = "turning";
   std::string points;
+  // A table's column names for the roles feature, x, y, z, i, j, k (PointReadOptions::columns);
+  // empty: the contract names and their aliases. YAML columns: {feature: Name, x: X}.
+  std::vector<std::pair<std::string, std::string>> columns;
   std::string machine;      // "" = nominal machine of the piece kind
   std::vector<std::string> parameters;
   std::uint64_t seed = 1;
@@ -84,6 +88,7 @@ Result<PipelineConfig> ParsePipelineConfig(const std::string& yaml_text, const s
 struct PipelineOverrides {
   std::string testpiece{};
   std::string points{};
+  std::vector<std::string> columns{};  // --column ROLE=NAME values: non-empty replaces the file's columns
   std::string machine{};
   std::string truth{};
   std::vector<std::string> parameters{};

@@ -65,6 +65,30 @@ TEST(PipelineOverrides, KeepOutliersFromTheFileOrTheFlagAndWrittenBack) {
   EXPECT_NE(bad.status().ToString().find("/d/p.yaml:2"), std::string::npos) << bad.status().ToString();
 }
 
+TEST(PipelineOverrides, ColumnMappingFromTheFileOrTheFlagsAndWrittenBack) {
+  auto file = ParsePipelineConfig("points: a.csv\nout: o\ncolumns: {feature: Pt ID, x: PX}\n", "/d/p.yaml");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  EXPECT_EQ(file->columns, (std::vector<std::pair<std::string, std::string>>{{"feature", "Pt ID"}, {"x", "PX"}}));
+  EXPECT_NE(FormatPipelineConfig(*file).find("columns:\n  feature: Pt ID\n  x: PX\n"), std::string::npos)
+      << FormatPipelineConfig(*file);
+  auto plain = ParsePipelineConfig("points: a.csv\nout: o\n", "/d/p.yaml");
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(FormatPipelineConfig(*plain).find("columns"), std::string::npos);  // a run without one echoes as before
+  PipelineOverrides o;
+  o.columns = {"Feature=Name", "z=Z mm"};  // the flags replace the file's mapping; roles are case-insensitive
+  auto c = ApplyPipelineOverrides(*file, o, false);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->columns, (std::vector<std::pair<std::string, std::string>>{{"feature", "Name"}, {"z", "Z mm"}}));
+  o.columns = {"x=A", "x=B"};
+  EXPECT_EQ(ApplyPipelineOverrides(*plain, o, false).status().message(), "--column: column role 'x' is mapped twice");
+  o.columns = {"x"};
+  EXPECT_EQ(ApplyPipelineOverrides(*plain, o, false).status().message(),
+            "--column 'x': expected ROLE=NAME (e.g. feature=Name, x=X)");
+  auto bad = ParsePipelineConfig("points: a.csv\nout: o\ncolumns:\n  w: PX\n", "/d/p.yaml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().ToString(), "/d/p.yaml:4: 'columns': column role 'w': expected one of feature, x, y, z, i, j, k");
+}
+
 TEST(PipelineOverrides, ReferenceBlockFromTheFileOrTheFlagsAndWrittenBack) {
   auto file = ParsePipelineConfig("points: a.csv\nout: o\nreference:\n  instrument: datum_ball\n  file: ball.csv\n",
                                   "/d/p.yaml");

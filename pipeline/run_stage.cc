@@ -72,6 +72,7 @@ Result<RunResult> RunPipeline(const PipelineConfig& config, const RunOptions& op
   clock.Start("read");
   PointReadOptions read;
   read.threads = options.read_threads;
+  read.columns = config.columns;
   // The file's bytes are read once: hashed for the digest, and parsed from memory when the
   // format is text (PLY and PCD go through PCL's own readers).
   auto bytes = ReadFileBytes(config.points);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "pipeline/cli/anchor_option.h"
+#include "pipeline/cli/column_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/diagnose_validate.h"
 #include "pipeline/diagnose_stage.h"
@@ -67,6 +68,7 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
                   "test-piece configuration YAML (tpcal.testpiece/1) instead of NAME's (with --testpiece: the same piece)");
   sub->add_option("--machine", r->machine_path, "machine model YAML (default: nominal ac_table or xyz)");
   AddAnchorOption(sub, &args->anchor);
+  AddColumnOption(sub, &r->columns);
   sub->add_option("--reference", r->reference_path,
                   "the sim instead of the fitted base: machine errors YAML (tpcal.errors/1, .yaml/.yml), not refitted, "
                   "or a point file (.csv, .ply, .pcd, .xyz, .txt) of the same piece, compared point by point, "

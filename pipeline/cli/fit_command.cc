@@ -6,6 +6,7 @@
 #include <string>
 
 #include "pipeline/cli/anchor_option.h"
+#include "pipeline/cli/column_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/fit_stage.h"
 #include "pipeline/report/fit_json.h"
@@ -58,6 +59,7 @@ Command RegisterFit(CLI::App& app) {
   sub->add_option("--config", args->request.config_path, "test-piece configuration YAML (schema tpcal.testpiece/1; with --testpiece)");
   sub->add_option("--machine", args->request.machine_path, "machine model YAML (with --testpiece; default: nominal ac_table or xyz)");
   AddAnchorOption(sub, &args->anchor);
+  AddColumnOption(sub, &args->request.columns);
   sub->add_option("--threads", args->request.threads, "parser threads (0 = all cores)")->capture_default_str();
   return {sub, [args] { return RunFit(*args); }};
 }

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "pipeline/cli/anchor_option.h"
+#include "pipeline/cli/column_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/piece_args.h"
 #include "pipeline/cli/ball_option.h"
@@ -186,6 +187,7 @@ Command RegisterIdentify(CLI::App& app) {
   sub->add_option("--config", args->request.config_path, "test-piece configuration YAML (schema tpcal.testpiece/1)");
   sub->add_option("--machine", args->request.machine_path, "machine model YAML (default: nominal ac_table or xyz)");
   AddAnchorOption(sub, &args->anchor);
+  AddColumnOption(sub, &args->request.columns);
   sub->add_option("--uncertainty", args->request.uncertainty,
                   "jackknife (delete one point, and one feature), analytic (Gauss-Newton), mc (GUM S1 Monte "
                   "Carlo) or all (primary: jackknife)")

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "pipeline/cli/anchor_option.h"
+#include "pipeline/cli/column_option.h"
 #include "pipeline/cli/commands.h"
 #include "pipeline/cli/progress_line.h"
 #include "pipeline/cli/run_args.h"
@@ -84,6 +85,7 @@ Command RegisterRun(CLI::App& app) {
   sub->add_option("--machine", args->overrides.machine, "machine YAML (tpcal.machine/1); default: the piece's nominal machine");
   sub->add_option("--truth", args->overrides.truth, "stated truth of a simulated sample (tpcal.sample_truth/1) to mark in the report");
   AddAnchorOption(sub, &args->anchor);
+  AddColumnOption(sub, &args->overrides.columns);
   sub->add_option("--parameters", args->overrides.parameters, "coefficients to identify (default: the piece's standard set)")
       ->delimiter(',');
   sub->add_option("--seed", args->overrides.seed, "Monte Carlo seed (default 1), written to every output");

@@ -481,7 +481,7 @@ struct Preamble {
 };
 
 Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
-                              TextDialect dialect, LengthUnit default_units) {
+                              TextDialect dialect, LengthUnit default_units, const ColumnMap& columns) {
   auto error = [&](std::string msg, std::size_t line_no) {
     return Status(StatusCode::kParseError, std::move(msg), source, line_no);
   };
@@ -525,7 +525,7 @@ Result<Preamble> ReadPreamble(std::string_view text, const std::string& source,
     }
     pre.header_line = line_no;
     if (dialect == TextDialect::kCsv) {
-      Result<Layout> layout = ParseTableHeader(line, source, line_no);
+      Result<Layout> layout = ParseTableHeader(line, source, line_no, columns);
       if (!layout.ok()) return layout.status();
       pre.layout = std::move(*layout);
       pre.data_begin = next;
@@ -607,9 +607,10 @@ void ExtractText(std::string_view chunk, const Layout& layout, const std::vector
 Result<PointFile> ParsePointText(std::string_view text, const std::string& source,
                                  TextDialect dialect, const PointReadOptions& options) {
   TPCAL_RETURN_IF_ERROR(options.Validate());
+  if (dialect != TextDialect::kCsv && !options.columns.empty()) return ColumnMappingNeedsTable(source);
   // The contract fixes mm as the CSV default; xyz text follows the caller's assumption.
   Result<Preamble> pre_or = ReadPreamble(
-      text, source, dialect, dialect == TextDialect::kCsv ? LengthUnit::kMm : options.assumed_units);
+      text, source, dialect, dialect == TextDialect::kCsv ? LengthUnit::kMm : options.assumed_units, options.columns);
   if (!pre_or.ok()) return pre_or.status();
   const Preamble& pre = *pre_or;
   const Layout& layout = pre.layout;

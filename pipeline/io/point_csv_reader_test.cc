@@ -345,6 +345,29 @@ TEST(PointCsvReader, ContractNamesWinOverAliases) {
             "header has normal column(s) i but not j,k (normals need all of i,j,k)");
 }
 
+// A column mapping names the header's own columns for roles: it wins over contract names and
+// aliases (which then stay attributes), a mapped name the header lacks is an error, and the
+// separator is found with it.
+TEST(PointCsvReader, ColumnMappingNamesTheTablesOwnColumns) {
+  PointReadOptions o = Serial();
+  o.columns = {{"feature", "Pt ID"}, {"x", "px"}, {"y", "PY"}, {"z", "PZ"}};
+  PointSet ps = ParseOk("Pt ID;PX;PY;PZ;feature\nH1;1,5;2;3;other\n", o);
+  ASSERT_EQ(ps.size(), 1u);
+  EXPECT_EQ(ps.feature_names, (std::vector<std::string>{"H1"}));
+  EXPECT_EQ(ps.xyz_mm[0], Eigen::Vector3d(1.5, 2, 3));
+  ASSERT_EQ(ps.attributes.size(), 1u);
+  EXPECT_EQ(ps.attributes[0].name, "feature");
+  o.columns = {{"feature", "Point"}};
+  EXPECT_EQ(ParseError("Pt ID,x,y,z\nH1,1,2,3\n", o).message(),
+            "header has no column 'Point' (the column mapping's feature=Point); got 'Pt ID,x,y,z'");
+  o.columns = {{"x", "A"}, {"y", "a"}};
+  EXPECT_EQ(ParseError("feature,A,y,z\nH1,1,2,3\n", o).message(), "column 'a' is mapped to both x and y");
+  o.columns = {{"x", "A"}};
+  Result<PointFile> xyz = ParsePointXyz("1 2 3\n", "mem.xyz", o);
+  ASSERT_FALSE(xyz.ok());
+  EXPECT_NE(xyz.status().message().find("CSV and TSV tables only"), std::string::npos) << xyz.status().ToString();
+}
+
 TEST(PointCsvReader, NormalTolerance) {
   // Within 1e-3 of unit: normalised. Beyond: error. Tolerance is an option.
   PointSet ps = ParseOk("feature,x,y,z,i,j,k\nA,0,0,0,0,0,1.0009\n");

@@ -5,7 +5,9 @@
 #include <filesystem>
 
 #include "core/ascii.h"
+#include "core/input_echo.h"
 #include "pipeline/io/dmis_reader.h"
+#include "pipeline/io/internal/point_table_header.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/io/qif_reader.h"
 #include "pipeline/io/xyzijk_reader.h"
@@ -44,7 +46,35 @@ Status PointReadOptions::Validate() const {
   if (!(normal_tolerance >= 0.0 && normal_tolerance < 1.0))
     return Status(StatusCode::kInvalidArgument,
                   fmt::format("normal_tolerance = {}: expected a value in [0, 1)", normal_tolerance));
+  for (std::size_t a = 0; a < columns.size(); ++a) {
+    const auto& [role, name] = columns[a];
+    if (!internal::IsTableRole(role))
+      return Status(StatusCode::kInvalidArgument,
+                    fmt::format("column role '{}': expected one of feature, x, y, z, i, j, k", EchoInput(role)));
+    if (name.empty())
+      return Status(StatusCode::kInvalidArgument, fmt::format("column role '{}' has no column name", role));
+    for (std::size_t b = 0; b < a; ++b) {
+      if (columns[b].first == role)
+        return Status(StatusCode::kInvalidArgument, fmt::format("column role '{}' is mapped twice", role));
+      if (AsciiLower(columns[b].second) == AsciiLower(name))
+        return Status(StatusCode::kInvalidArgument,
+                      fmt::format("column '{}' is mapped to both {} and {}", EchoInput(name), columns[b].first, role));
+    }
+  }
   return Status::Ok();
+}
+
+Result<std::vector<std::pair<std::string, std::string>>> ParsePointColumns(const std::vector<std::string>& args) {
+  PointReadOptions check;
+  for (const std::string& a : args) {
+    const std::size_t eq = a.find('=');
+    if (eq == std::string::npos)
+      return Status(StatusCode::kInvalidArgument,
+                    fmt::format("--column '{}': expected ROLE=NAME (e.g. feature=Name, x=X)", EchoInput(a)));
+    check.columns.emplace_back(AsciiLower(a.substr(0, eq)), a.substr(eq + 1));
+  }
+  if (Status s = check.Validate(); !s.ok()) return Status(s.code(), "--column: " + s.message());
+  return check.columns;
 }
 
 Status PointWriteOptions::Validate() const {
@@ -62,6 +92,8 @@ Result<PointFile> ReadPointFile(const std::string& path, const PointReadOptions&
   TPCAL_RETURN_IF_ERROR(options.Validate());
   PointFormat format = options.format;
   if (format == PointFormat::kAuto) format = PointFormatFromExtension(path);
+  if (!options.columns.empty() && format != PointFormat::kCsv && format != PointFormat::kAuto)
+    return internal::ColumnMappingNeedsTable(path);
   switch (format) {
     case PointFormat::kCsv: return ReadPointCsv(path, options);
     case PointFormat::kPly: return ReadPointPly(path, options);

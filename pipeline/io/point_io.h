@@ -38,6 +38,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/point_set.h"
 #include "core/status.h"
@@ -70,9 +72,20 @@ struct PointReadOptions {
   // PLY/PCD only: drop points with a NaN/inf coordinate (organised scans use NaN for "no
   // return") instead of failing.
   bool skip_nonfinite_points = false;
+  // CSV/TSV tables only: the header's name of a column for a role (feature, x, y, z, i, j, k),
+  // over the contract names and their aliases (docs/formats/points.md, "Column mapping"). Names
+  // match case-insensitively. Set from `--column ROLE=NAME` (ParsePointColumns) or a pipeline's
+  // `columns:`.
+  std::vector<std::pair<std::string, std::string>> columns;
 
+  // Errors (kInvalidArgument): threads < 0, normal_tolerance outside [0, 1), a column role that
+  // is not one of the seven, a role or a name given twice, an empty name.
   Status Validate() const;
 };
+
+// `--column` values (ROLE=NAME each) as PointReadOptions::columns. kInvalidArgument naming the
+// value when it has no '=', an unknown role, an empty name, or a role given twice.
+Result<std::vector<std::pair<std::string, std::string>>> ParsePointColumns(const std::vector<std::string>& args);
 
 struct PointFileInfo {
   PointFormat format = PointFormat::kAuto;

@@ -34,6 +34,19 @@ for f in dmis/turning_sample.dmo qif/turning_sample.qif dmis/turning_sample_xyzi
   cmp -s "$WORK/csv/characteristics.csv" "$WORK/$name/characteristics.csv" || fail "$f: GD&T differs from the CSV"
 done
 
+# A table under its own column names, mapped with --column (run and identify): the same result.
+sed '1s/.*/Pt ID;PX;PY;PZ;NI;NJ;NK;Probe/' "$SRC/tests/data/tables/turning_sample_semicolon.csv" > "$WORK/own_names.csv"
+map='--column feature=pt_id --column x=PX --column y=PY --column z=PZ --column i=NI --column j=NJ --column k=NK'
+sed -i '1s/Pt ID/pt_id/' "$WORK/own_names.csv"
+# shellcheck disable=SC2086
+"$TPCAL" -q run --testpiece turning --points "$WORK/own_names.csv" $map --out "$WORK/own_names" > /dev/null
+cmp -s "$WORK/csv/identification.csv" "$WORK/own_names/identification.csv" || fail "--column: identifies differently from the CSV"
+grep -q '^  feature: pt_id$' "$WORK/own_names/config.yaml" || fail "--column: the mapping is not in the effective config.yaml"
+expect2 "own_names.csv:1: header lacks the required column 'feature'" identify "$WORK/own_names.csv" --testpiece turning
+expect2 "own_names.csv:1: header has no column 'Point'" identify "$WORK/own_names.csv" --testpiece turning --column feature=Point
+expect2 "column role 'w'" identify "$WORK/own_names.csv" --testpiece turning --column w=PX
+expect2 'applies to CSV and TSV tables only' identify "$SRC/tests/data/qif/turning_sample.qif" --testpiece turning --column x=PX
+
 # Bad files.
 head -c 1500 "$SRC/tests/data/qif/turning_sample.qif" > "$WORK/unclosed.qif"
 expect2 'unclosed.qif:[0-9]*: malformed XML' run --testpiece turning --points "$WORK/unclosed.qif" --out "$WORK/out"

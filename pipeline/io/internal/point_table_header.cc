@@ -22,20 +22,39 @@ constexpr std::array<std::string_view, 6> kFeatureAliases = {"name", "label", "f
                                                              "featurename", "element"};
 constexpr std::array<std::string_view, 3> kNormalAliases = {"nx", "ny", "nz"};
 
-// Column of each named role (-1: absent): the contract name first, then its aliases. The normal's
-// aliases count only as a whole triple and only without any of i,j,k, so `i,ny,nz` is not read
-// as one normal (it fails as a normal lacking j,k).
-std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_names) {
+int RoleIndex(std::string_view role) {
+  for (int r = 0; r < kNamedRoles; ++r)
+    if (role == kRoleName[r]) return r;
+  return -1;
+}
+
+// Column of each named role (-1: absent): a mapped role its mapped column (-2 when the header has
+// none), the others the contract name first, then its aliases, among the columns no mapping
+// took. The normal's aliases count only as a whole triple and only without any of i,j,k, so
+// `i,ny,nz` is not read as one normal (it fails as a normal lacking j,k).
+std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_names, const ColumnMap& columns) {
   std::array<int, kNamedRoles> column;
   column.fill(-1);
+  std::vector<bool> mapped(lower_names.size(), false);
   auto find = [&](std::string_view name) {
     for (std::size_t c = 0; c < lower_names.size(); ++c)
-      if (lower_names[c] == name) return static_cast<int>(c);
+      if (!mapped[c] && lower_names[c] == name) return static_cast<int>(c);
     return -1;
   };
-  for (int r = 0; r < kNamedRoles; ++r) column[r] = find(kRoleName[r]);
-  for (std::size_t a = 0; column[0] < 0 && a < kFeatureAliases.size(); ++a) column[0] = find(kFeatureAliases[a]);
-  if (column[4] < 0 && column[5] < 0 && column[6] < 0) {
+  std::array<bool, kNamedRoles> by_map{};
+  for (const auto& [role, name] : columns) {
+    const int r = RoleIndex(role);
+    if (r < 0) continue;  // PointReadOptions::Validate refuses it
+    by_map[r] = true;
+    column[r] = find(AsciiLower(name));
+    if (column[r] >= 0) mapped[static_cast<std::size_t>(column[r])] = true;
+    else column[r] = -2;
+  }
+  for (int r = 0; r < kNamedRoles; ++r)
+    if (!by_map[r]) column[r] = find(kRoleName[r]);
+  for (std::size_t a = 0; !by_map[0] && column[0] < 0 && a < kFeatureAliases.size(); ++a)
+    column[0] = find(kFeatureAliases[a]);
+  if (!by_map[4] && !by_map[5] && !by_map[6] && column[4] < 0 && column[5] < 0 && column[6] < 0) {
     std::array<int, 3> alias;
     for (int d = 0; d < 3; ++d) alias[d] = find(kNormalAliases[d]);
     if (alias[0] >= 0 && alias[1] >= 0 && alias[2] >= 0)
@@ -44,23 +63,32 @@ std::array<int, kNamedRoles> FindRoles(const std::vector<std::string>& lower_nam
   return column;
 }
 
-bool HasRequiredColumns(std::string_view line, char sep) {
+bool HasRequiredColumns(std::string_view line, char sep, const ColumnMap& columns) {
   std::vector<std::string_view> cells;
   if (!SplitTableCells(line, sep, &cells).empty()) return false;
   std::vector<std::string> lower;
   for (std::string_view c : cells) lower.push_back(AsciiLower(c));
-  const std::array<int, kNamedRoles> column = FindRoles(lower);
+  const std::array<int, kNamedRoles> column = FindRoles(lower, columns);
   return column[0] >= 0 && column[1] >= 0 && column[2] >= 0 && column[3] >= 0;
 }
 
-char DetectSeparator(std::string_view line) {
-  if (HasRequiredColumns(line, ',')) return ',';
+char DetectSeparator(std::string_view line, const ColumnMap& columns) {
+  if (HasRequiredColumns(line, ',', columns)) return ',';
   for (char sep : {';', '\t'})
-    if (line.find(sep) != std::string_view::npos && HasRequiredColumns(line, sep)) return sep;
+    if (line.find(sep) != std::string_view::npos && HasRequiredColumns(line, sep, columns)) return sep;
   return ',';
 }
 
 }  // namespace
+
+bool IsTableRole(std::string_view role) { return RoleIndex(role) >= 0; }
+
+Status ColumnMappingNeedsTable(const std::string& source) {
+  return Status(StatusCode::kInvalidArgument,
+                "a column mapping (--column, columns:) applies to CSV and TSV tables only: this file's columns are "
+                "fixed by its format",
+                source);
+}
 
 std::string_view TrimCell(std::string_view s, char sep) {
   std::size_t b = 0, e = s.size();
@@ -105,12 +133,13 @@ std::string SplitTableCells(std::string_view line, char sep, std::vector<std::st
   }
 }
 
-Result<Layout> ParseTableHeader(std::string_view line, const std::string& source, std::size_t line_no) {
+Result<Layout> ParseTableHeader(std::string_view line, const std::string& source, std::size_t line_no,
+                                const ColumnMap& columns) {
   auto error = [&](std::string msg) {
     return Status(StatusCode::kParseError, std::move(msg), source, line_no);
   };
   Layout layout;
-  layout.sep = DetectSeparator(line);
+  layout.sep = DetectSeparator(line, columns);
   std::vector<std::string_view> cells;
   if (std::string e = SplitTableCells(line, layout.sep, &cells); !e.empty()) return error("header: " + e);
   if (cells.size() > kMaxTableColumns)
@@ -128,7 +157,12 @@ Result<Layout> ParseTableHeader(std::string_view line, const std::string& source
       return error(fmt::format("duplicate header column '{}' (columns {} and {})", EchoInput(cells[c]),
                                it->second + 1, c + 1));
   }
-  const std::array<int, kNamedRoles> column = FindRoles(lower);
+  std::array<int, kNamedRoles> column = FindRoles(lower, columns);
+  for (const auto& [role, name] : columns) {
+    if (const int r = RoleIndex(role); r >= 0 && column[r] == -2)
+      return error(fmt::format("header has no column '{}' (the column mapping's {}={}); got '{}'", EchoInput(name),
+                               role, EchoInput(name), EchoInput(TrimCell(line, ','))));
+  }
   for (int r = 0; r < 4; ++r) {
     if (column[r] < 0)
       return error(fmt::format("header lacks the required column '{}' (expected feature,x,y,z "

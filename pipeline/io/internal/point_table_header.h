@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/status.h"
@@ -41,11 +42,22 @@ std::string_view TrimCell(std::string_view s, char sep);
 // A line holding only blanks and separators (spreadsheets export empty rows as ",,,,").
 bool OnlyTableSeparators(std::string_view line, char sep);
 
+// A role name of a column mapping: feature, x, y, z, i, j or k.
+bool IsTableRole(std::string_view role);
+
+// A column mapping (PointReadOptions::columns): role -> the header's name for it.
+using ColumnMap = std::vector<std::pair<std::string, std::string>>;
+
+// kInvalidArgument naming `source`: a column mapping was given for a file that is not a table.
+Status ColumnMappingNeedsTable(const std::string& source);
+
 // Splits a table line into trimmed, unquoted cells. Returns an error message or "".
 std::string SplitTableCells(std::string_view line, char sep, std::vector<std::string_view>* cells);
 
 // The header line `line` (line `line_no` of `source`): the separator is ',' unless ',' leaves a
-// required column out and ';' or a tab gives them all. Errors name the file and line.
-Result<Layout> ParseTableHeader(std::string_view line, const std::string& source, std::size_t line_no);
+// required column out and ';' or a tab gives them all. A mapped role takes the column `columns`
+// names for it (an error if the header has no such column). Errors name the file and line.
+Result<Layout> ParseTableHeader(std::string_view line, const std::string& source, std::size_t line_no,
+                                const ColumnMap& columns = {});
 
 }  // namespace tpcal::pipeline::internal

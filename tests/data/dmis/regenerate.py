@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Rewrites turning_sample.dmo and turning_sample_xyzijk.txt from samples/turning/cmm_points.csv:
 the same header lines, then one line per point with the CSV's number text copied unchanged
-(labels <feature>_<k>, k counting the feature's points from 1); and the two tables of
-../tables/ (a ';' table with decimal commas, a tab table). Run from anywhere."""
+(labels <feature>_<k>, k counting the feature's points from 1); and the three tables of
+../tables/ (a ';' table with decimal commas, a tab table, a table under its own column names).
+Run from anywhere."""
 import os
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -42,3 +43,7 @@ with open(os.path.join(tables, "turning_sample_tab.tsv"), "w") as f:
     f.write("feature name\tx\ty\tz\tnx\tny\tnz\n")
     for feature, numbers in rows:
         f.write("%s\t%s\n" % (feature, "\t".join(numbers)))
+with open(os.path.join(tables, "turning_sample_own_names.csv"), "w") as f:
+    f.write("Pt ID,Meas X,Meas Y,Meas Z,Vec I,Vec J,Vec K\n")
+    for feature, numbers in rows:
+        f.write("%s,%s\n" % (feature, ",".join(numbers)))
