@@ -7,7 +7,9 @@
 # Env: FUZZ_SECONDS (20), FUZZ_BUILD (build-fuzz; scripts/test.sh passes its clang sanitizer
 #      build), FUZZ_DIR (FUZZ_BUILD/fuzz-smoke), FUZZ_JOBS (ninja -j, 2), FUZZ_PARALLEL (1),
 #      FUZZ_RSS_MB (-rss_limit_mb, 2048), FUZZ_SEED (-seed; 0, the default, lets libFuzzer pick one),
-#      FUZZ_RUNS (-runs: stop a target after this many executions, whichever comes first; -1, none).
+#      FUZZ_RUNS (-runs: stop a target after this many executions, whichever comes first; -1, none),
+#      FUZZ_TIMEOUT (-timeout: seconds one input may take, 10; long runs on a shared machine, where
+#      another job can starve the fuzzer for longer, need more or report false timeouts).
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SECONDS_EACH=${FUZZ_SECONDS:-20}
@@ -18,6 +20,7 @@ PARALLEL=${FUZZ_PARALLEL:-1}
 RSS_MB=${FUZZ_RSS_MB:-2048}
 SEED=${FUZZ_SEED:-0}
 RUNS=${FUZZ_RUNS:--1}
+TIMEOUT=${FUZZ_TIMEOUT:-10}
 
 # One target: `fuzz_smoke.sh --one TARGET` (the parallel runs below call it) prints one line,
 # "fuzz T: ok ..." or "fuzz T: FINDING ...".
@@ -28,7 +31,7 @@ if [ "${1:-}" = "--one" ]; then
   # Findings are written into $dir; the seed corpus in the tree is read, never written.
   set +e
   (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
-    "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -runs="$RUNS" -timeout=10 -rss_limit_mb="$RSS_MB" \
+    "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -runs="$RUNS" -timeout="$TIMEOUT" -rss_limit_mb="$RSS_MB" \
     -malloc_limit_mb="$RSS_MB" -seed="$SEED" -dict="$ROOT/tests/fuzz/$t.dict" -print_final_stats=1 \
     "$dir/corpus" "$ROOT/tests/fuzz/corpus/$t" > "$dir/log.txt" 2>&1)
   rc=$?
