@@ -54,8 +54,12 @@ class Reader {
                              std::size_t max_bytes = kMaxNameBytes) const {
     if (!n.IsScalar()) return Error(n, what + ": expected a text value");
     const std::string& s = n.Scalar();
+    const bool text = max_bytes > kMaxNameBytes;  // free text may hold tabs and line breaks; a name is one printable line
     bool printable = FirstInvalidUtf8(s) == std::string_view::npos;
-    for (char c : s) printable = printable && !((static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') || c == 0x7F);
+    for (char c : s) {
+      const bool layout = text && (c == '\n' || c == '\t');
+      printable = printable && !((static_cast<unsigned char>(c) < 0x20 && !layout) || c == 0x7F);
+    }
     if (!printable || s.size() > max_bytes)
       return Error(n, what + ": '" + EchoInput(s) + "': expected printable UTF-8 text of at most " +
                           std::to_string(max_bytes) + " bytes");
