@@ -11,6 +11,7 @@
 #include <system_error>
 #include <vector>
 
+#include "core/input_echo.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
 
@@ -29,10 +30,7 @@ std::string UpperAscii(std::string_view s) {
   return out;
 }
 
-std::string DmisEcho(std::string_view s) {
-  if (s.size() <= 60) return fmt::format("'{}'", s);
-  return fmt::format("'{}...'", s.substr(0, 57));
-}
+std::string DmisEcho(std::string_view s) { return "'" + EchoInput(s, 60) + "'"; }
 
 // Splits `text` into statements. Error: a `$` continuation at the end of the file.
 Result<std::vector<DmisStatement>> SplitStatements(std::string_view text, const std::string& source) {
@@ -105,6 +103,52 @@ std::optional<double> DmisNumber(std::string_view s) {
   return v;
 }
 
+
+enum class AngleUnit { kDegree, kRadian, kDms };
+
+// The modal state point actuals are read in: UNITS and WKPLAN.
+struct DmisModes {
+  double mm_per_unit = 1.0;
+  AngleUnit angle = AngleUnit::kDegree;
+  int first_axis = 0;  // WKPLAN: 0 XYPLAN, 1 YZPLAN, 2 ZXPLAN
+};
+
+// Position (file units) and vector of `FEAT/POINT,CART|POL,...` from its fields (fields[0] is
+// POINT). A polar point (r, angle, height) lies in the work plane: the angle runs from the
+// plane's first axis toward its second (X->Y, Y->Z, Z->X), the height along its normal; the
+// vector stays i,j,k. Errors: not six numbers, a non-number, an ANGDMS polar angle.
+Status PointActual(const std::vector<std::string_view>& fields, const std::string& label, const DmisModes& modes,
+                   std::size_t line, const std::string& source, Eigen::Vector3d& xyz, Eigen::Vector3d& n) {
+  auto error = [&](std::string what) { return Status(StatusCode::kParseError, std::move(what), source, line); };
+  const bool polar = fields.size() >= 2 && fields[1] == "POL";
+  if (fields.size() < 2 || (fields[1] != "CART" && !polar))
+    return error(fmt::format("FA({}): expected FEAT/POINT,CART,x,y,z,i,j,k or FEAT/POINT,POL,r,a,h,i,j,k", label));
+  if (fields.size() != 8)
+    return error(fmt::format("FA({}) has {} numbers after FEAT/POINT,{}: expected 6 ({},i,j,k)", label,
+                             fields.size() - 2, fields[1], polar ? "r,a,h" : "x,y,z"));
+  double v[6];
+  for (int k = 0; k < 6; ++k) {
+    auto x = DmisNumber(fields[2 + k]);
+    if (!x)
+      return error(fmt::format("FA({}): {} is not a number: expected {},i,j,k", label, DmisEcho(fields[2 + k]),
+                               polar ? "r,a,h" : "x,y,z"));
+    v[k] = *x;
+  }
+  n = Eigen::Vector3d(v[3], v[4], v[5]);
+  if (!polar) {
+    xyz = Eigen::Vector3d(v[0], v[1], v[2]);
+    return Status();
+  }
+  if (modes.angle == AngleUnit::kDms)
+    return error(fmt::format("FA({}): a polar angle in UNITS ANGDMS: expected ANGDEC or ANGRAD", label));
+  const double a_rad = modes.angle == AngleUnit::kDegree ? v[1] * (M_PI / 180.0) : v[1];
+  const int u = modes.first_axis;
+  xyz[u] = v[0] * std::cos(a_rad);
+  xyz[(u + 1) % 3] = v[0] * std::sin(a_rad);
+  xyz[(u + 2) % 3] = v[2];
+  return Status();
+}
+
 }  // namespace
 
 std::string DmisFeatureOfLabel(std::string_view label) {
@@ -122,7 +166,7 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
   DmisFile out;
   PointSet& ps = out.file.points;
   ps.source = source_name;
-  double mm_per_unit = 1.0;
+  DmisModes modes;
   bool saw_inch = false;
   auto error = [&](std::size_t line, std::string what) {
     return Status(StatusCode::kParseError, std::move(what), source_name, line);
@@ -132,6 +176,7 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
     if (up.rfind("UNITS/", 0) == 0) {
       const auto f = SplitFields(std::string_view(up).substr(6));
       const std::string_view len = f[0];
+      double& mm_per_unit = modes.mm_per_unit;
       if (len == "MM") mm_per_unit = 1.0;
       else if (len == "CM") mm_per_unit = 10.0;
       else if (len == "METER") mm_per_unit = 1000.0;
@@ -141,8 +186,17 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
         return error(st.line, fmt::format("UNITS/{}: expected a length unit MM, CM, METER, INCH or FEET", DmisEcho(len)));
       if (f.size() < 2 || (f[1] != "ANGDEC" && f[1] != "ANGDMS" && f[1] != "ANGRAD"))
         return error(st.line, fmt::format("{}: expected UNITS/<length>,ANGDEC|ANGDMS|ANGRAD", DmisEcho(st.text)));
+      modes.angle = f[1] == "ANGDEC" ? AngleUnit::kDegree : f[1] == "ANGRAD" ? AngleUnit::kRadian : AngleUnit::kDms;
       out.report.units = mm_per_unit == kMmPerInch ? LengthUnit::kInch : LengthUnit::kMm;
       saw_inch = saw_inch || mm_per_unit == kMmPerInch;
+      continue;
+    }
+    if (up.rfind("WKPLAN/", 0) == 0) {
+      const std::string_view plane = std::string_view(up).substr(7);
+      if (plane == "XYPLAN") modes.first_axis = 0;
+      else if (plane == "YZPLAN") modes.first_axis = 1;
+      else if (plane == "ZXPLAN") modes.first_axis = 2;
+      else return error(st.line, fmt::format("{}: expected WKPLAN/XYPLAN, YZPLAN or ZXPLAN", DmisEcho(st.text)));
       continue;
     }
     if (up.rfind("FILNAM/", 0) == 0) {
@@ -157,6 +211,7 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
     if (close == std::string::npos || close == 3)
       return error(st.line, fmt::format("{}: expected FA(label)=FEAT/...", DmisEcho(st.text)));
     const std::string label = st.text.substr(3, close - 3);
+    const std::string shown = EchoInput(label);  // the label in messages
     const std::string_view rest = std::string_view(up).substr(close + 1);
     if (rest.rfind("=FEAT/", 0) != 0) continue;  // FA(x)=... of another kind (e.g. a tolerance actual)
     const auto fields = SplitFields(rest.substr(6));
@@ -165,38 +220,25 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
       ++out.report.skipped_actuals[std::string(type)];
       continue;
     }
-    if (fields.size() < 2 || fields[1] != "CART")
-      return error(st.line, fmt::format("FA({}): {}: expected FEAT/POINT,CART,x,y,z,i,j,k (polar points are not "
-                                        "supported)", label, DmisEcho(st.text)));
-    if (fields.size() != 8)
-      return error(st.line, fmt::format("FA({}) has {} numbers after FEAT/POINT,CART: expected 6 (x,y,z,i,j,k)",
-                                        label, fields.size() - 2));
-    double v[6];
-    for (int k = 0; k < 6; ++k) {
-      auto x = DmisNumber(fields[2 + k]);
-      if (!x)
-        return error(st.line, fmt::format("FA({}): {} is not a number: expected x,y,z,i,j,k", label,
-                                          DmisEcho(fields[2 + k])));
-      v[k] = *x;
-    }
-    const Eigen::Vector3d n(v[3], v[4], v[5]);
+    Eigen::Vector3d xyz, n;
+    TPCAL_RETURN_IF_ERROR(PointActual(fields, shown, modes, st.line, source_name, xyz, n));
     const double len = n.norm();
     if (!(len > 1e-12) || std::abs(len - 1.0) > dmis_options.normal_tolerance)
       return error(st.line, fmt::format("FA({}): vector ({}, {}, {}) has length {:.6g}: expected a unit vector",
-                                        label, v[3], v[4], v[5], len));
+                                        shown, n.x(), n.y(), n.z(), len));
     const std::string feature = DmisFeatureOfLabel(label);
     if (!dmis_options.known_features.empty() &&
         std::find(dmis_options.known_features.begin(), dmis_options.known_features.end(), feature) ==
             dmis_options.known_features.end())
       return error(st.line, fmt::format("FA({}): feature '{}' is not in the plan: expected a label <feature>_<k> of "
-                                        "one of its {} features", label, feature, dmis_options.known_features.size()));
-    ps.xyz_mm.emplace_back(v[0] * mm_per_unit, v[1] * mm_per_unit, v[2] * mm_per_unit);
+                                        "one of its {} features", shown, EchoInput(feature), dmis_options.known_features.size()));
+    ps.xyz_mm.push_back(xyz * modes.mm_per_unit);
     ps.normal.push_back(std::abs(len - 1.0) > 1e-14 ? Eigen::Vector3d(n / len) : n);  // as the CSV reader
     ps.feature.push_back(ps.InternFeature(feature));
     ps.line.push_back(st.line);
   }
   if (ps.empty())
-    return error(1, "no FA(label)=FEAT/POINT,CART,... actuals: expected DMIS output with measured points");
+    return error(1, "no FA(label)=FEAT/POINT,CART|POL,... actuals: expected DMIS output with measured points");
   out.file.info.format = PointFormat::kDmis;
   out.file.info.source_units = saw_inch ? LengthUnit::kInch : LengthUnit::kMm;
   out.file.info.bytes = text.size();

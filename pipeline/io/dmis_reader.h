@@ -1,18 +1,20 @@
 // DMIS 5.x output files (`.dmo`, docs/formats/dmis.md): the point actuals
-// `FA(label)=FEAT/POINT,CART,x,y,z,i,j,k` become points (mm, unit normals), labelled by the
-// feature the label names.
+// `FA(label)=FEAT/POINT,CART,x,y,z,i,j,k` and `FEAT/POINT,POL,r,a,h,i,j,k` (in the WKPLAN work
+// plane) become points (mm, unit normals), labelled by the feature the label names.
 //
 // Label -> feature: tpcal's DMIS program (testpieces/dmis_program.h) names the k-th planned
 // point of feature F `F_k`, so one trailing `_<digits>` is stripped (`S_R_12` -> `S_R`,
 // `H1_3` -> `H1`); a label without that suffix is the feature itself.
 // Statements: `$$` starts a comment (outside quotes), a line ending in `$` continues on the
 // next; keywords are case-insensitive (labels keep their case); blanks outside quotes are
-// ignored. `UNITS/MM|CM|METER|INCH|FEET,ANGDEC|ANGDMS|ANGRAD[,...]` sets the length unit of the
-// statements after it (default mm); `FILNAM/'name',version` is recorded. Feature actuals of
+// ignored. `UNITS/MM|CM|METER|INCH|FEET,ANGDEC|ANGDMS|ANGRAD[,...]` sets the length and angle
+// units of the statements after it (default mm, degrees), `WKPLAN/XYPLAN|YZPLAN|ZXPLAN` the plane
+// of polar points; `FILNAM/'name',version` is recorded. Feature actuals of
 // other types (`FEAT/CIRCLE`, `PLANE`, `CYLNDR`, ...) are skipped and counted: tpcal fits its
 // features from the points. Other statements (MEAS, PTMEAS, OUTPUT, ...) are ignored.
 // Errors are kParseError `file:line: what was expected` at the statement's first line: a
-// point actual with fewer or more than six numbers, a polar point, an unknown unit, a label
+// point actual with fewer or more than six numbers, a polar angle under ANGDMS, an unknown unit
+// or work plane, a label
 // not in DmisReadOptions::known_features, a `$` continuation at the end of the file.
 #pragma once
 

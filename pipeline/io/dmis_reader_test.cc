@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/units.h"
 #include "pipeline/io/xyzijk_reader.h"
 
@@ -57,7 +59,10 @@ TEST(DmisReader, BadFilesSayFileLineAndWhatWasExpected) {
       {"continuation at end", "FA(S_R_1)=FEAT/POINT,CART,1,2,3,$\n", 1, "the file ends"},
       {"unknown units", "UNITS/FURLONG,ANGDEC\nFA(S_R_1)=FEAT/POINT,CART,1,2,3,0,0,1\n", 1, "expected a length unit"},
       {"not a number", "FA(S_R_1)=FEAT/POINT,CART,1,2,x,0,0,1\n", 1, "'X' is not a number"},
-      {"polar", "FA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 1, "polar points are not supported"},
+      {"neither CART nor POL", "FA(S_R_1)=FEAT/POINT,SPH,1,2,3,0,0,1\n", 1, "or FEAT/POINT,POL,r,a,h,i,j,k"},
+      {"polar in DMS", "UNITS/MM,ANGDMS\nFA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 2, "expected ANGDEC or ANGRAD"},
+      {"unknown work plane", "WKPLAN/XZ\nFA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 1, "expected WKPLAN/XYPLAN"},
+      {"polar cut short", "FA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0\n", 1, "expected 6 (r,a,h,i,j,k)"},
       {"bad vector", "FA(S_R_1)=FEAT/POINT,CART,1,2,3,0,0,2\n", 1, "expected a unit vector"},
       {"no points", "$$ nothing\nUNITS/MM,ANGDEC\n", 1, "no FA(label)"},
   };
@@ -68,6 +73,30 @@ TEST(DmisReader, BadFilesSayFileLineAndWhatWasExpected) {
     EXPECT_EQ(r.status().line(), c.line) << c.what << ": " << r.status().ToString();
     EXPECT_NE(r.status().message().find(c.expect), std::string::npos) << c.what << ": " << r.status().ToString();
   }
+}
+
+// Truth: a point at radius 100 mm, 30 degrees, height 5 mm is (100 cos 30, 100 sin 30, 5) on
+// XYPLAN; on YZPLAN the angle runs Y -> Z and the height is X; on ZXPLAN Z -> X, height Y.
+// Tolerance 1e-12 mm: one rounding of cos/sin times 100 mm.
+TEST(DmisReader, PolarPointsLieInTheWorkPlaneInTheAngleUnit) {
+  const std::string text =
+      "UNITS/MM,ANGDEC\n"
+      "FA(S_R_1)=FEAT/POINT,POL,100,30,5,0.8660254037844386,0.5,0\n"
+      "WKPLAN/YZPLAN\n"
+      "FA(S_R_2)=FEAT/POINT,POL,100,30,5,1,0,0\n"
+      "wkplan/zxplan\n"
+      "UNITS/INCH,ANGRAD\n"
+      "FA(S_R_3)=FEAT/POINT,POL,2,0.5235987755982988,1,0,1,0\n";
+  auto r = ParseDmisOutput(text, "polar.dmo");
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  const PointSet& ps = r->file.points;
+  ASSERT_EQ(ps.size(), 3u);
+  const double c = 100 * std::cos(M_PI / 6), s = 100 * std::sin(M_PI / 6);
+  EXPECT_LT((ps.xyz_mm[0] - Eigen::Vector3d(c, s, 5)).norm(), 1e-12);
+  EXPECT_LT((ps.xyz_mm[1] - Eigen::Vector3d(5, c, s)).norm(), 1e-12);
+  EXPECT_LT((ps.xyz_mm[2] - kMmPerInch * Eigen::Vector3d(2 * std::sin(M_PI / 6), 1, 2 * std::cos(M_PI / 6))).norm(),
+            1e-12);
+  EXPECT_EQ(ps.normal[1], Eigen::Vector3d(1, 0, 0));
 }
 
 TEST(DmisReader, LabelThePlanDoesNotKnowIsAnError) {
