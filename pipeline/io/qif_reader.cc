@@ -11,17 +11,22 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <climits>
 #include <cstdint>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "core/ascii.h"
+#include "core/base64.h"
+#include "core/input_echo.h"
 #include "core/parallel.h"
 #include "core/units.h"
 #include "pipeline/io/file_bytes.h"
@@ -83,11 +88,7 @@ std::string_view TrimXml(std::string_view s) {
   return s;
 }
 
-std::string QifEcho(std::string_view s) {
-  s = TrimXml(s);
-  if (s.size() <= 40) return fmt::format("'{}'", s);
-  return fmt::format("'{}...'", s.substr(0, 37));
-}
+std::string QifEcho(std::string_view s) { return "'" + EchoInput(TrimXml(s), 40) + "'"; }
 
 std::optional<double> QifNumber(std::string_view s) {
   s = TrimXml(s);
@@ -163,6 +164,68 @@ struct XmlAttrs {
   }
 };
 
+// The document as libxml2 pulls it through its read callback: the file's bytes, except that the
+// rest of a block parsed straight from the file is handed over as its newlines only, so libxml2
+// keeps counting lines without scanning (and copying) the numbers again. Offsets in what was
+// handed over map back to file offsets.
+class QifFeed {
+ public:
+  explicit QifFeed(std::string_view file = {}) : file_(file) {}
+
+  // Fills `out` with up to `len` bytes; 0 at the end.
+  int Read(char* out, int len) {
+    const std::size_t want = static_cast<std::size_t>(std::max(len, 0));
+    std::size_t n = 0;
+    while (n < want) {
+      if (pos_ >= skip_b_ && pos_ < skip_e_) {
+        const std::size_t k = std::min(want - n, skip_newlines_);
+        std::memset(out + n, '\n', k);
+        n += k;
+        delivered_ += k;
+        skip_newlines_ -= k;
+        if (skip_newlines_ == 0) {
+          pos_ = skip_e_;
+          shifts_.emplace_back(delivered_, pos_ - delivered_);
+        }
+        continue;
+      }
+      const std::size_t stop = pos_ < skip_b_ ? skip_b_ : file_.size();
+      const std::size_t k = std::min(want - n, stop - pos_);
+      if (k == 0) break;
+      std::memcpy(out + n, file_.data() + pos_, k);
+      pos_ += k;
+      n += k;
+      delivered_ += k;
+    }
+    return static_cast<int>(n);
+  }
+
+  // The file's bytes [b, e), parsed already and holding `newlines` line ends, are handed over as
+  // those line ends from where libxml2 has read to (worth it from 64 KiB on).
+  void Skip(std::size_t b, std::size_t e, std::size_t newlines) {
+    if (b < pos_) newlines -= static_cast<std::size_t>(std::count(file_.data() + b, file_.data() + std::min(pos_, e), '\n'));
+    b = std::max(b, pos_);
+    if (e <= b || e - b < (std::size_t{1} << 16)) return;
+    skip_b_ = b;
+    skip_e_ = e;
+    skip_newlines_ = newlines;
+  }
+
+  std::size_t Delivered() const { return delivered_; }
+
+  // File offset of an offset into what was handed over (inside a skipped block: an offset in it).
+  std::size_t FileOffset(std::size_t handed) const {
+    auto it = std::upper_bound(shifts_.begin(), shifts_.end(), std::make_pair(handed, SIZE_MAX));
+    return it == shifts_.begin() ? handed : handed + std::prev(it)->second;
+  }
+
+ private:
+  std::string_view file_;
+  std::size_t pos_ = 0, delivered_ = 0;  // file bytes read, bytes handed over
+  std::size_t skip_b_ = 0, skip_e_ = 0, skip_newlines_ = 0;
+  std::vector<std::pair<std::size_t, std::size_t>> shifts_;  // (handed-over offset, file - handed) from there on
+};
+
 // The streaming pass: collects items, measurements, point sets and units, then Assemble().
 class QifParser {
  public:
@@ -224,6 +287,8 @@ class QifParser {
     return Status::Ok();
   }
   Status TakeNormal();
+  Status StartBinary(const XmlAttrs& attrs, std::string_view name, std::size_t line);
+  Status TakeBinary(bool normals);
   Status FinishSet();
   void ReserveFor(std::vector<Eigen::Vector3d>* v);
   Result<QifFile> Assemble();
@@ -267,11 +332,11 @@ class QifParser {
   double triple_[3] = {0, 0, 0};
   int in_triple_ = 0;
   std::string carry_;  // a number cut where one piece of block text ends and the next begins
-  // The document, and how far libxml2 has read it (the read callback's position).
-  struct Source {
-    const char* p;
-    std::size_t left;
-  } src_{nullptr, 0};
+  // <BinaryPoints> / <BinaryNormals> being read: its base64 text, line and attributes
+  bool in_binary_ = false;
+  std::string binary_;
+  std::size_t binary_line_ = 0, binary_count_ = 0, binary_size_ = 0;
+  QifFeed feed_;  // the document as libxml2 reads it
   std::string_view raw_;
   std::size_t parsed_until_ = 0;  // block text before this file offset was parsed by ParsePlainBlock
 };
@@ -344,9 +409,8 @@ Status QifParser::OnStart(const XmlAttrs& attrs, std::string_view name, std::siz
         return Error(line, "a second <Normals>: expected one per MeasuredPointSet");
       ReserveFor(block_ == Block::kPoints ? &xyz_ : &normal_);
       return ParsePlainBlock();
-    } else if (name == "PointsBinary" || name == "NormalsBinary") {
-      return Error(line, fmt::format("<{}> (base64 binary points) is not supported: expected <Points> text "
-                                     "(x y z triples)", name));
+    } else if (name == "BinaryPoints" || name == "BinaryNormals") {
+      return StartBinary(attrs, name, line);
     }
   }
   return Status::Ok();
@@ -484,6 +548,71 @@ void QifParser::ReserveFor(std::vector<Eigen::Vector3d>* v) {
   if (v == &xyz_) xyz_line_.reserve(n);
 }
 
+// A <BinaryPoints>/<BinaryNormals> (QIF ArrayBinaryType) starts: count and sizeElement checked.
+Status QifParser::StartBinary(const XmlAttrs& attrs, std::string_view name, std::size_t line) {
+  const bool normals = name == "BinaryNormals";
+  if (normals ? cur_set_->n_normal != 0 : cur_set_->n != 0)
+    return Error(line, fmt::format("a second list of {}: expected one per MeasuredPointSet", normals ? "normals" : "points"));
+  const std::string size = attrs.Get("sizeElement"), count = attrs.Get("count");
+  if (size != "8" && size != "4")
+    return Error(line, fmt::format("<{} sizeElement=\"{}\">: expected 8 (64-bit IEEE numbers) or 4 (32-bit)", name,
+                                   QifEcho(size)));
+  auto c = QifIndex(count);
+  if (!count.empty() && !c) return Error(line, fmt::format("<{} count=\"{}\">: expected a number of elements", name, QifEcho(count)));
+  in_binary_ = true;
+  binary_.clear();
+  binary_line_ = line;
+  binary_count_ = c.value_or(0);
+  binary_size_ = size == "8" ? 8 : 4;
+  return Status::Ok();
+}
+
+// Element k of a binary array: little-endian IEEE 754 of binary_size_ bytes.
+double BinaryElement(const std::string& bytes, std::size_t k, std::size_t size) {
+  std::uint64_t u = 0;
+  for (std::size_t b = 0; b < size; ++b)
+    u |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[k * size + b])) << (8 * b);
+  if (size == 8) return std::bit_cast<double>(u);
+  return static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(u)));
+}
+
+// The decoded array as points (file units, the line of its start tag) or unit normals: x y z per
+// point; `count` may give the elements (3 per point) or the points.
+Status QifParser::TakeBinary(bool normals) {
+  const char* name = normals ? "BinaryNormals" : "BinaryPoints";
+  std::size_t bad = 0;
+  const std::optional<std::string> bytes = DecodeBase64(binary_, &bad);
+  std::string().swap(binary_);
+  if (!bytes)
+    return Error(binary_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\": character {} of its text is not "
+                                           "base64: expected RFC 4648 base64", name, cur_set_id_, bad + 1));
+  const std::size_t triple = 3 * binary_size_;
+  if (bytes->size() % triple != 0)
+    return Error(binary_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\" holds {} bytes: expected whole x y z "
+                                           "triples of {}-byte numbers", name, cur_set_id_, bytes->size(), binary_size_));
+  const std::size_t n = bytes->size() / triple;
+  if (binary_count_ != 0 && binary_count_ != 3 * n && binary_count_ != n)
+    return Error(binary_line_, fmt::format("<{} count=\"{}\"> holds {} triples: expected count to give its {} "
+                                           "elements (or {} points)", name, binary_count_, n, 3 * n, n));
+  std::vector<Eigen::Vector3d>& dst = normals ? normal_ : xyz_;
+  dst.reserve(dst.size() + n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) triple_[k] = BinaryElement(*bytes, 3 * i + static_cast<std::size_t>(k), binary_size_);
+    if (!std::isfinite(triple_[0] + triple_[1] + triple_[2]))
+      return Error(binary_line_, fmt::format("<{}> triple {} of MeasuredPointSet id=\"{}\" is not finite: expected "
+                                             "numbers", name, i + 1, cur_set_id_));
+    if (normals) {
+      triple_line_ = binary_line_;
+      TPCAL_RETURN_IF_ERROR(TakeNormal());
+    } else {
+      xyz_.emplace_back(triple_[0], triple_[1], triple_[2]);
+      xyz_line_.push_back(binary_line_);
+      ++cur_set_->n;
+    }
+  }
+  return Status::Ok();
+}
+
 Status QifParser::FinishSet() {
   QifPointSet& s = *cur_set_;
   if (s.n == 0) return Error(s.line, fmt::format("MeasuredPointSet id=\"{}\" has no <Points>: expected x y z triples", cur_set_id_));
@@ -547,6 +676,9 @@ Status QifParser::OnEnd(std::string_view name, std::size_t line) {
           return Error(triple_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\" ends inside a triple: expected "
                                                  "three numbers per point", name, cur_set_id_));
         block_ = Block::kNone;
+      } else if (name == "BinaryPoints" || name == "BinaryNormals") {
+        in_binary_ = false;
+        return TakeBinary(name == "BinaryNormals");
       } else if (name == "Compensated") {
         if (text == "true" || text == "1") cur_set_->compensated = true;
         else if (text == "false" || text == "0") cur_set_->compensated = false;
@@ -581,6 +713,7 @@ Status QifParser::OnElement(std::string_view name, const XmlAttrs& attrs) {
     if (name != "QIFDocument") return Error(line, fmt::format("root element <{}>: expected <QIFDocument> (QIF 3.0)", name));
   }
   if (block_ != Block::kNone) return Error(line, fmt::format("<{}> inside <Points>/<Normals>: expected only numbers", name));
+  if (in_binary_) return Error(line, fmt::format("<{}> inside <{}>: expected only base64 text", name, Parent(0)));
   TPCAL_RETURN_IF_ERROR(OnStart(attrs, name, line));  // sees its parent on top of the stack
   stack_.push_back(name);
   return Status::Ok();
@@ -599,7 +732,9 @@ void QifParser::SaxText(void* self, const xmlChar* text, int len) {
   auto* p = static_cast<QifParser*>(self);
   if (!p->failure_.ok() || len <= 0) return;
   const std::string_view value(reinterpret_cast<const char*>(text), static_cast<std::size_t>(len));
-  if (p->block_ != Block::kNone) {
+  if (p->in_binary_) {
+    p->binary_.append(value);
+  } else if (p->block_ != Block::kNone) {
     if (p->parsed_until_ != 0 && p->RawOffset(text).value_or(SIZE_MAX) < p->parsed_until_) return;
     if (Status s = p->OnBlockText(value); !s.ok()) p->Fail(std::move(s));
   } else if (p->text_.size() < 4096) {
@@ -638,10 +773,10 @@ std::optional<std::size_t> QifParser::RawOffset(const xmlChar* at) const {
   const xmlParserInputPtr in = ctxt_->input;
   if (in == nullptr || in->buf == nullptr || in->buf->encoder != nullptr || at < in->base || at > in->end)
     return std::nullopt;
-  const std::size_t read = static_cast<std::size_t>(src_.p - raw_.data());
+  const std::size_t read = feed_.Delivered();
   const std::size_t behind = static_cast<std::size_t>(in->end - at);
   if (behind > read) return std::nullopt;
-  return read - behind;
+  return feed_.FileOffset(read - behind);
 }
 
 // Called at a <Points>/<Normals> start tag: the text after it, up to the next '<', is parsed
@@ -663,12 +798,9 @@ Status QifParser::ParsePlainBlock() {
   constexpr std::size_t kPieceBytes = std::size_t{1} << 17;  // 128 KiB: a piece is worth a task
   const std::size_t threads = options_.threads > 0 ? static_cast<std::size_t>(options_.threads) : HardwareThreads();
   const std::size_t pieces = std::min(threads, text.size() / kPieceBytes);
-  if (pieces > 1 && ParsePlainParallel(text, pieces)) {
+  if ((pieces > 1 && ParsePlainParallel(text, pieces)) || OnNumbers(text).ok()) {
     parsed_until_ = e;
-    return Status::Ok();
-  }
-  if (OnNumbers(text).ok()) {
-    parsed_until_ = e;
+    feed_.Skip(b, e, block_line_ - line);
     return Status::Ok();
   }
   xyz_.resize(n_xyz);
@@ -714,16 +846,9 @@ Result<QifFile> QifParser::Run(std::string_view text) {
   // libxml2 pulls the text in 4 kB pieces through a read callback: its buffer stays small and
   // warm (a memory input of 2.9 copies the whole file into fresh memory first).
   raw_ = text;
-  src_ = {text.data(), text.size()};
-  auto read = [](void* ctx, char* out, int len) -> int {
-    auto* s = static_cast<Source*>(ctx);
-    const std::size_t n = std::min(s->left, static_cast<std::size_t>(std::max(len, 0)));
-    std::memcpy(out, s->p, n);
-    s->p += n;
-    s->left -= n;
-    return static_cast<int>(n);
-  };
-  ctxt_ = xmlCreateIOParserCtxt(&sax, this, read, nullptr, &src_, XML_CHAR_ENCODING_NONE);
+  feed_ = QifFeed(text);
+  auto read = [](void* ctx, char* out, int len) -> int { return static_cast<QifFeed*>(ctx)->Read(out, len); };
+  ctxt_ = xmlCreateIOParserCtxt(&sax, this, read, nullptr, &feed_, XML_CHAR_ENCODING_NONE);
   if (ctxt_ == nullptr || ctxt_->sax == nullptr) return Error(1, "cannot start the XML parser: expected an XML document");
   struct Closer {
     xmlParserCtxtPtr c;

@@ -3,10 +3,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <random>
 
+#include "core/base64.h"
 #include "core/units.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/io/file_bytes.h"
@@ -237,6 +242,70 @@ TEST(QifReader, PlainAndPiecewisePointsTextsReadAlike) {
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.status().line(), 15u);
   EXPECT_NE(bad.status().message().find("'caf\xC3\xA9' in <Points>"), std::string::npos) << bad.status().ToString();
+}
+
+// A parallel block is handed to libxml2 as its newlines only: lines after it stay the file's.
+// Truth: a bad <Compensated> after 200 000 points is reported on its own line of the file.
+TEST(QifReader, LinesAfterALargeBlockAreTheFilesLines) {
+  PointSet ps;
+  for (int i = 0; i < 200000; ++i) {
+    ps.xyz_mm.emplace_back(i * 1e-3, 2.0, 3.0);
+    ps.normal.emplace_back(0, 0, 1);
+    ps.feature.push_back(ps.InternFeature("SCAN"));
+  }
+  std::string text = FormatPointQif(ps);
+  const std::size_t at = text.find("</Normals>") + std::strlen("</Normals>");
+  text.insert(at, "\n<Compensated>maybe</Compensated>");
+  const auto line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 2;
+  for (int threads : {1, 2}) {
+    QifReadOptions o;
+    o.threads = threads;
+    auto r = ParseQif(text, "big.qif", o);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.status().line(), line) << r.status().ToString();
+    EXPECT_NE(r.status().message().find("<Compensated> 'maybe'"), std::string::npos) << r.status().ToString();
+  }
+}
+
+// Little-endian IEEE numbers of `size` bytes, base64.
+std::string Binary(const std::vector<double>& v, int size) {
+  std::string bytes;
+  for (double d : v) {
+    std::uint64_t u = size == 8 ? std::bit_cast<std::uint64_t>(d) : std::bit_cast<std::uint32_t>(static_cast<float>(d));
+    for (int b = 0; b < size; ++b) bytes.push_back(static_cast<char>((u >> (8 * b)) & 0xFF));
+  }
+  return EncodeBase64(bytes);
+}
+
+// Truth: <BinaryPoints> of doubles and <BinaryNormals> of floats (values exact in float) give
+// the points and normals of the text form, the line of the start tag for every point.
+TEST(QifReader, BinaryPointsAndNormalsReadAsTheirText) {
+  const std::vector<double> xyz = {1.25, 2, 3, 4, 5, 6, 7, 8, -9.5}, ijk = {0, 0, 1, 0, 1, 0, 1, 0, 0};
+  const std::string set = "<MeasuredPointSet id=\"10\" count=\"3\">\n<BinaryPoints count=\"9\" sizeElement=\"8\">\n" +
+                          Binary(xyz, 8) + "\n</BinaryPoints>\n<BinaryNormals count=\"3\" sizeElement=\"4\">" +
+                          Binary(ijk, 4) + "</BinaryNormals>\n</MeasuredPointSet>\n";
+  auto r = ParseQif(Doc(kMm, kPlaneWhole10, set), "b.qif");
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  const PointSet& ps = r->file.points;
+  ASSERT_EQ(ps.size(), 3u);
+  EXPECT_EQ(ps.xyz_mm[0], Eigen::Vector3d(1.25, 2, 3));
+  EXPECT_EQ(ps.xyz_mm[2], Eigen::Vector3d(7, 8, -9.5));
+  EXPECT_EQ(ps.normal[1], Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(ps.line, (std::vector<std::size_t>{14, 14, 14}));
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"<BinaryPoints sizeElement=\"3\">AAAA</BinaryPoints>", "expected 8 (64-bit IEEE numbers) or 4"},
+      {"<BinaryPoints sizeElement=\"8\">AA*A</BinaryPoints>", "character 3 of its text is not base64"},
+      {"<BinaryPoints sizeElement=\"8\">" + Binary({1, 2}, 8) + "</BinaryPoints>", "expected whole x y z triples"},
+      {"<BinaryPoints count=\"4\" sizeElement=\"8\">" + Binary(xyz, 8) + "</BinaryPoints>", "expected count to give"},
+      {"<BinaryPoints sizeElement=\"8\">" + Binary({1, 2, std::nan("")}, 8) + "</BinaryPoints>", "is not finite"},
+      {"<BinaryPoints sizeElement=\"8\"><x/></BinaryPoints>", "<x> inside <BinaryPoints>"},
+  };
+  for (const auto& [points, expect] : bad) {
+    auto e = ParseQif(Doc(kMm, kPlaneWhole10, "<MeasuredPointSet id=\"10\">" + points + "</MeasuredPointSet>\n"), "b.qif");
+    ASSERT_FALSE(e.ok()) << points;
+    EXPECT_EQ(e.status().line(), 13u) << e.status().ToString();
+    EXPECT_NE(e.status().message().find(expect), std::string::npos) << e.status().ToString();
+  }
 }
 
 struct QifBadCase {
