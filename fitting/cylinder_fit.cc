@@ -1,5 +1,6 @@
 #include "fitting/cylinder_fit.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -9,6 +10,29 @@
 #include "fitting/internal/orientation.h"
 
 namespace tpcal::fitting {
+namespace {
+
+// Axes in the plane of the points, every 10 degrees. A shallow patch (a 20 degree arc 0.2 R long:
+// 0.35 R by 0.2 R, sagitta 1.5 % of R) can have every minimum of the algebraic score off its
+// axis, and from a wrong axis Levenberg-Marquardt runs off toward the plane (R -> infinity);
+// a cylinder's axis lies close to the best-fit plane of such a patch.
+std::vector<Eigen::Vector3d> InPlaneDirections(const internal::AxisFitSetup& setup) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : setup.sample_mm) mean += p;
+  mean /= static_cast<double>(setup.sample_mm.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& p : setup.sample_mm) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  const Eigen::Vector3d e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1);
+  std::vector<Eigen::Vector3d> out;
+  for (int k = 0; k < 18; ++k) {
+    const double a = k * (kPi / 18.0);
+    out.push_back(std::cos(a) * e1 + std::sin(a) * e2);
+  }
+  return out;
+}
+
+}  // namespace
 
 Result<FitResult<Cylinder>> FitCylinder(std::span<const Eigen::Vector3d> points_mm, const FitOptions& options,
                                         std::optional<Eigen::Vector3d> axis_hint) {
@@ -28,6 +52,13 @@ Result<FitResult<Cylinder>> FitCylinder(std::span<const Eigen::Vector3d> points_
                                                   "not lie on a cylinder: collinear or coplanar?)");
   }
   auto run = internal::BestOfStarts<CylinderModel>(points_mm, *setup, starts, options);
+  if (!run.ok() && !axis_hint.has_value()) {
+    std::vector<CylinderModel::State> more;
+    for (const auto& w : InPlaneDirections(*setup))
+      if (auto s = internal::ProjectedCircleStart(*setup, w)) more.push_back(*s);
+    if (auto again = internal::BestOfStarts<CylinderModel>(points_mm, *setup, more, options); again.ok())
+      run = std::move(again);
+  }
   if (!run.ok()) return run.status().WithContext(what);
   const CylinderModel model(points_mm, setup->origin_mm, setup->scale_mm);
   const Eigen::Vector3d a = run->state.axis.dir();
