@@ -113,7 +113,7 @@ TEST(ReferenceCircles, MatchBruteForce) {
     const int n = 4 + static_cast<int>(seed % 10);
     if (seed % 2) {
       std::uniform_real_distribution<double> u(-10, 10);
-      for (int i = 0; i < n; ++i) p.emplace_back(u(rng), u(rng));
+      for (int i = 0; i < n; ++i) p.push_back(Eigen::Vector2d{u(rng), u(rng)});
     } else {
       std::uniform_real_distribution<double> a(0, 2 * kPi), e(-0.05, 0.05);
       for (int i = 0; i < n; ++i) {

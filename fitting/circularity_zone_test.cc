@@ -95,7 +95,7 @@ TEST(MinimumZoneCircularity, GlobalCertificateIsNeverWrongOnScatteredPoints) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-10, 10);
     std::vector<Eigen::Vector2d> p;
-    for (int i = 0; i < 9; ++i) p.emplace_back(u(rng), u(rng));
+    for (int i = 0; i < 9; ++i) p.push_back(Eigen::Vector2d{u(rng), u(rng)});
     const auto mz = MinimumZoneCircularity(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
     const double bf = BruteForceCircularity(p);
@@ -173,7 +173,7 @@ TEST(MinimumZoneCircularity, NotWiderThanZoneAboutOtherCentres) {
   EXPECT_LE(mz->width_mm, zone_about(mic->circle.center_mm) + 1e-12);
   std::uniform_real_distribution<double> d(-0.01, 0.01);
   for (int i = 0; i < 200; ++i) {
-    EXPECT_LE(mz->width_mm, zone_about(mz->center_mm + Eigen::Vector2d(d(rng), d(rng))) + 1e-12);
+    EXPECT_LE(mz->width_mm, zone_about(mz->center_mm + Eigen::Vector2d{d(rng), d(rng)}) + 1e-12);
   }
 }
 

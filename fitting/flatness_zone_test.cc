@@ -72,7 +72,7 @@ TEST(MinimumZoneFlatness, MatchesBruteForceOnRandomSets) {
     auto p = seed % 2 ? NoisyPlane(rng, n, 0.01) : std::vector<Eigen::Vector3d>{};
     if (p.empty()) {  // fully 3D random sets too
       std::uniform_real_distribution<double> u(-1, 1);
-      for (int i = 0; i < n; ++i) p.emplace_back(u(rng), u(rng), u(rng));
+      for (int i = 0; i < n; ++i) p.push_back(Eigen::Vector3d{u(rng), u(rng), u(rng)});
     }
     const auto mz = MinimumZoneFlatness(p);
     ASSERT_TRUE(mz.ok()) << mz.status().ToString();
@@ -120,7 +120,9 @@ TEST(MinimumZoneFlatness, PointsBetweenTwoKnownPlanes) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-40, 40), t(0.001, 0.024);
   std::vector<Eigen::Vector3d> p;
-  for (int i = 0; i < 30; ++i) p.emplace_back(u(rng), u(rng), i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 0.025 : t(rng)));
+  for (int i = 0; i < 30; ++i) {
+    p.push_back(Eigen::Vector3d{u(rng), u(rng), i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 0.025 : t(rng))});
+  }
   const auto mz = MinimumZoneFlatness(p);
   ASSERT_TRUE(mz.ok());
   EXPECT_DOUBLE_EQ(mz->width_mm, 0.025);

@@ -16,7 +16,7 @@ using testing::LineAngle;
 
 Eigen::Vector3d RandomUnitLine(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
-  return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  return Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized();
 }
 
 Eigen::Vector3d Lift(const Eigen::Vector2d& p) { return {p.x(), p.y(), 0.0}; }
@@ -69,7 +69,9 @@ TEST(FitLine3, CertifiedReferenceData) {
         o.n_points = n;
         o.length_mm = length_mm;
         o.deviation_rms_mm = dev_mm;
-        const Line3 truth = *MakeLine3(1000.0 * RandomUnitLine(rng), RandomUnitLine(rng));
+        const Eigen::Vector3d point = 1000.0 * RandomUnitLine(rng);  // drawn before the direction under every compiler
+        const Eigen::Vector3d direction = RandomUnitLine(rng);
+        const Line3 truth = *MakeLine3(point, direction);
         const auto ref = MakeReferenceLine3(truth, o, rng);
         ASSERT_TRUE(ref.ok()) << ref.status().ToString();
         std::ostringstream label;

@@ -17,8 +17,8 @@ using testing::LineAngle;
 
 Plane RandomPlane(std::mt19937_64& rng, double distance_mm) {
   std::normal_distribution<double> g(0.0, 1.0);
-  const Eigen::Vector3d dir = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-  const Eigen::Vector3d n = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  const Eigen::Vector3d dir = Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized();
+  const Eigen::Vector3d n = Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized();
   return *MakePlane(distance_mm * dir, n);
 }
 

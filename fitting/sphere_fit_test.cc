@@ -16,7 +16,7 @@ using testing::kSizeTol_mm;
 
 Eigen::Vector3d RandomUnitSphere(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
-  return Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  return Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized();
 }
 
 // Radii 1 to 500 mm, caps from the whole sphere down to 20 deg half angle, centres 1000 mm

@@ -81,7 +81,7 @@ M4 RefPartFromTool(const MachineModel& m, const std::vector<LinkErrors>& e, cons
 
 MachineModel RandomPivots(MachineModel m, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-300.0, 300.0);
-  for (AxisLink& l : m.links) l.pivot_mm = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  for (AxisLink& l : m.links) l.pivot_mm = Eigen::Vector3d{u(rng), u(rng), u(rng)};
   return m;
 }
 

@@ -60,7 +60,7 @@ std::vector<BallReading> BallReadings(const MachineModel& m, const ErrorState& t
       r.rotary.c_rad = DegToRad(c);
       auto cmd = BallCentreCommand(m, truth, r.rotary, ball);
       EXPECT_TRUE(cmd.ok()) << cmd.status().ToString();
-      r.command_mm = *cmd + UmToMm(1.0) * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      r.command_mm = *cmd + UmToMm(1.0) * Eigen::Vector3d{noise(rng), noise(rng), noise(rng)};
       r.line = out.size() + 4;
       out.push_back(r);
     }

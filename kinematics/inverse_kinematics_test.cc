@@ -28,8 +28,8 @@ TEST(InverseKinematics, ToolPointRoundTripsOnEveryMachine) {
       if (m->HasAxis(Axis::kC)) rot.c_rad = DegToRad(180.0 * u(rng));
       rot.t_s = 12.5;
       rot.op = 3;
-      const Eigen::Vector3d target(150 * u(rng), 150 * u(rng), 100 + 100 * u(rng));
-      const Eigen::Vector3d contact(5 * u(rng), 5 * u(rng), 2 * u(rng));
+      const Eigen::Vector3d target{150 * u(rng), 150 * u(rng), 100 + 100 * u(rng)};
+      const Eigen::Vector3d contact{5 * u(rng), 5 * u(rng), 2 * u(rng)};
       Result<AxisState> s = NominalAxesForToolPoint(*m, target, rot, contact, no_strokes);
       ASSERT_TRUE(s.ok()) << s.status().ToString();
       EXPECT_LT((NominalToolPointInPart(*m, *s, contact) - target).norm(), 1e-9) << f;
@@ -62,7 +62,7 @@ TEST(InverseKinematics, RotaryAnglesForToolAxis) {
     Result<MachineModel> m = MakeMachine(t);
     ASSERT_TRUE(m.ok());
     for (int i = 0; i < 50; ++i) {
-      const Eigen::Vector3d d = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+      const Eigen::Vector3d d = Eigen::Vector3d{u(rng), u(rng), u(rng)}.normalized();
       Result<std::vector<AxisState>> sols = RotaryAnglesForToolAxis(*m, d);
       ASSERT_TRUE(sols.ok()) << sols.status().ToString();
       EXPECT_EQ(sols->size(), 2u);

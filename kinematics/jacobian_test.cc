@@ -130,7 +130,7 @@ void CheckRegime(MachineType type, double scale, uint64_t seed) {
   MachineModel m = *mm;
   std::uniform_real_distribution<double> piv(-150.0, 150.0);
   for (AxisLink& l : m.links) {
-    if (IsRotary(l.axis)) l.pivot_mm += Eigen::Vector3d(piv(rng), piv(rng), piv(rng));
+    if (IsRotary(l.axis)) l.pivot_mm += Eigen::Vector3d{piv(rng), piv(rng), piv(rng)};
   }
   ErrorState e = RichErrors(m, scale, rng);
   const ActiveSet all = AllCoefficients(e);

@@ -205,8 +205,9 @@ TEST(InstrumentReference, StudyOfFalseAlarmsAndAWithheldDrift) {
       if (name == "E_C0C") continue;  // the C zero: the turning piece and the ball both leave it free
       cold += fmt::format("{}_{}: {:.3f}\n", name, info->quantity == kinematics::Quantity::kAngle ? "urad" : "um", base(rng));
     }
+    const double drift_k_um = k_um(rng), drift_tau_s = tau_s(rng);  // drawn in this order under every compiler
     const std::string hot = cold + fmt::format("effects:\n  - thermal_drift:\n      parameter: E_X0C\n      K_um: {:.3f}\n"
-                                               "      tau_s: {:.1f}\n", k_um(rng), tau_s(rng));
+                                               "      tau_s: {:.1f}\n", drift_k_um, drift_tau_s);
     const std::string tight = WriteBallpos(0.5, 100 + t, cold), loose = WriteBallpos(20.0, 200 + t, cold);
     const PointSet cold_piece = CutPiece(cold, 300 + t), hot_piece = CutPiece(hot, 400 + t);
     auto a = AgainstBall(cold_piece, tight), b = AgainstBall(cold_piece, loose), c = AgainstBall(hot_piece, tight);

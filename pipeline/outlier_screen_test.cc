@@ -49,7 +49,10 @@ std::set<std::size_t> AddGrossOutliers(PointSet* points, double sigma_um, std::m
   std::uniform_real_distribution<double> size(10.0, 50.0);
   std::set<std::size_t> chosen;
   while (chosen.size() < m) chosen.insert(pick(rng));
-  for (std::size_t i : chosen) Push(points, i, (rng() % 2 ? 1.0 : -1.0) * size(rng) * sigma_um);
+  for (std::size_t i : chosen) {
+    const double sign = rng() % 2 ? 1.0 : -1.0;  // drawn before the size under every compiler
+    Push(points, i, sign * size(rng) * sigma_um);
+  }
   return chosen;
 }
 

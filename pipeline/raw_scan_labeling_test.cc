@@ -118,9 +118,9 @@ TEST(RawScanLabeling, RandomPlacements) {
   std::normal_distribution<double> g(0.0, 1.0);
   std::uniform_real_distribution<double> u(-300.0, 300.0);
   for (int trial = 0; trial < 3; ++trial) {
-    const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+    const Eigen::Quaterniond q{g(rng), g(rng), g(rng), g(rng)};
     SCOPED_TRACE(trial);
-    ExpectRecovered(MakeRigid(q.normalized().toRotationMatrix(), Eigen::Vector3d(u(rng), u(rng), u(rng))));
+    ExpectRecovered(MakeRigid(q.normalized().toRotationMatrix(), Eigen::Vector3d{u(rng), u(rng), u(rng)}));
   }
 }
 
@@ -278,8 +278,8 @@ TEST(RawScanLabeling, RandomPointsAreAClearError) {
   std::uniform_real_distribution<double> u(-200.0, 200.0);
   std::normal_distribution<double> g(0.0, 1.0);
   for (int i = 0; i < 1000; ++i) {
-    garbage.xyz_mm.emplace_back(u(rng), u(rng), u(rng));
-    garbage.normal.push_back(Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized());
+    garbage.xyz_mm.push_back(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    garbage.normal.push_back(Eigen::Vector3d{g(rng), g(rng), g(rng)}.normalized());
     garbage.feature.push_back(PointSet::kUnlabelled);
   }
   auto r = LabelRawScan(s.piece, garbage);

@@ -80,7 +80,10 @@ TEST(Seed002ClosedForm, RoundTripThroughTheSimulator) {
   std::bernoulli_distribution sign(0.5);
   for (int trial = 0; trial < 3; ++trial) {
     std::map<std::string, double> truth;
-    for (const auto& name : kinematics::Seed002ParameterNames()) truth[name] = (sign(rng) ? 1 : -1) * mag(rng);
+    for (const auto& name : kinematics::Seed002ParameterNames()) {
+      const int s = sign(rng) ? 1 : -1;  // drawn before the magnitude under every compiler
+      truth[name] = s * mag(rng);
+    }
     const auto items = SimulatedItems(truth, true);
     auto solved = kinematics::SolveSeed002(items, *g, Seed002Equations::kKinematics);
     ASSERT_TRUE(solved.ok()) << solved.status().ToString();

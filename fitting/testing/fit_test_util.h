@@ -93,10 +93,10 @@ class WorstCase {
 // A random rigid motion: uniform rotation, translation uniform in a cube of half side t_mm.
 inline Rigid3 RandomRigid(std::mt19937_64& rng, double t_mm) {
   std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  Eigen::Quaterniond q{g(rng), g(rng), g(rng), g(rng)};
   q.normalize();
   std::uniform_real_distribution<double> u(-t_mm, t_mm);
-  return MakeRigid(q.toRotationMatrix(), Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  return MakeRigid(q.toRotationMatrix(), Eigen::Vector3d{u(rng), u(rng), u(rng)});
 }
 
 template <typename T>

@@ -404,13 +404,14 @@ std::string GenerateBigCsv(std::size_t n_rows, std::uint64_t seed) {
     const int kind = pick(rng);
     if (kind == 0) out += "# a comment line\n";
     if (kind == 1) out += "\n";
-    Eigen::Vector3d n(gauss(rng), gauss(rng), gauss(rng));
+    Eigen::Vector3d n{gauss(rng), gauss(rng), gauss(rng)};
     n.normalize();
     const std::string label = kind == 2 ? "" : fmt::format("F{}", pick(rng) % 37);
     const std::string note = r == n_rows - 10 ? "late text" : fmt::format("{}", pick(rng));
+    const double x = coord(rng), y = coord(rng), z = coord(rng);  // drawn in this order under every compiler
     out += fmt::format("{}{}{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.6f},{}{}\n",
-                       kind == 3 ? "\"" : "", label, kind == 3 ? "\"" : "", coord(rng), coord(rng),
-                       coord(rng), n.x(), n.y(), n.z(), r * 0.01, note, kind == 4 ? "\r" : "");
+                       kind == 3 ? "\"" : "", label, kind == 3 ? "\"" : "", x, y, z, n.x(), n.y(), n.z(), r * 0.01,
+                       note, kind == 4 ? "\r" : "");
   }
   return out;
 }

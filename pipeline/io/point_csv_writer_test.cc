@@ -46,9 +46,9 @@ PointSet RandomPointSet(std::size_t n, std::uint64_t seed, bool normals) {
   PointAttribute note{"note", {}, {}};
   for (std::size_t i = 0; i < n; ++i) {
     const double scale = i % 7 == 0 ? 1e-9 : (i % 11 == 0 ? 1e6 : 1.0);
-    ps.xyz_mm.emplace_back(coord(rng) * scale, coord(rng), coord(rng) / 3.0);
+    ps.xyz_mm.push_back(Eigen::Vector3d{coord(rng) * scale, coord(rng), coord(rng) / 3.0});
     if (normals) {
-      Eigen::Vector3d nv(gauss(rng), gauss(rng), gauss(rng));
+      Eigen::Vector3d nv{gauss(rng), gauss(rng), gauss(rng)};
       ps.normal.push_back(nv.normalized());
     }
     ps.feature.push_back(i % 13 == 0 ? PointSet::kUnlabelled : static_cast<int>(i % 5));

@@ -114,8 +114,8 @@ TEST(QifReader, RoundTripOfTpcalsOwnFileIsBitExact) {
   std::uniform_real_distribution<double> u(-300, 300);
   PointSet ps;
   for (int i = 0; i < 500; ++i) {
-    ps.xyz_mm.emplace_back(u(rng), u(rng), u(rng));
-    ps.normal.push_back(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized());
+    ps.xyz_mm.push_back(Eigen::Vector3d{u(rng), u(rng), u(rng)});
+    ps.normal.push_back(Eigen::Vector3d{u(rng), u(rng), u(rng)}.normalized());
     ps.feature.push_back(ps.InternFeature(i % 3 == 0 ? "S_R" : (i % 3 == 1 ? "B_R" : "H<1>&")));
   }
   auto r = ParseQif(FormatPointQif(ps), "own.qif");

@@ -37,8 +37,12 @@ inline std::map<std::string, double> RandomTable2(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> mag(10.0, 50.0);
   std::bernoulli_distribution sign(0.5);
   std::map<std::string, double> truth;
-  for (const auto& name : kinematics::Seed002Set(AcTable())) truth[name] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
-  truth["E_C(0X)Y"] = (sign(rng) ? 1.0 : -1.0) * mag(rng);
+  auto draw = [&] {
+    const double s = sign(rng) ? 1.0 : -1.0;  // drawn before the magnitude under every compiler
+    return s * mag(rng);
+  };
+  for (const auto& name : kinematics::Seed002Set(AcTable())) truth[name] = draw();
+  truth["E_C(0X)Y"] = draw();
   return truth;
 }
 

@@ -44,7 +44,7 @@ const Case& Test3x36() {
         r.rotary.b_rad = DegToRad(b), r.rotary.c_rad = DegToRad(c);
         auto cmd = kinematics::BallCentreCommand(*m, *e, r.rotary, Eigen::Vector3d(200.0, 0.1, 300.0));
         if (!cmd.ok()) std::exit(1);
-        r.command_mm = *cmd + UmToMm(1.0) * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+        r.command_mm = *cmd + UmToMm(1.0) * Eigen::Vector3d{noise(rng), noise(rng), noise(rng)};
         readings.push_back(r);
       }
     return Case{*m, *e, readings};

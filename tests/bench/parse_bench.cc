@@ -42,11 +42,12 @@ std::string GenerateCanonicalCsv(std::size_t n, std::uint64_t seed) {
   std::string out = "# tpcal points v1\n# units: mm\nfeature,x,y,z,i,j,k\n";
   out.reserve(n * 80);
   for (std::size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d nv(gauss(rng), gauss(rng), gauss(rng));
+    Eigen::Vector3d nv{gauss(rng), gauss(rng), gauss(rng)};
     nv.normalize();
     // Features come in runs of 500 points, as a CMM probes them.
+    const double x = coord(rng), y = coord(rng), z = coord(rng);  // drawn in this order under every compiler
     fmt::format_to(std::back_inserter(out), "{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
-                   features[(i / 500) % 20], coord(rng), coord(rng), coord(rng), nv.x(), nv.y(), nv.z());
+                   features[(i / 500) % 20], x, y, z, nv.x(), nv.y(), nv.z());
   }
   return out;
 }

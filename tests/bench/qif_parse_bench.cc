@@ -41,8 +41,9 @@ PointSet GeneratePoints(std::size_t n, std::uint64_t seed) {
   ps.normal.reserve(n);
   ps.feature.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d nv = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
-    ps.xyz_mm.emplace_back(nm(coord(rng)), nm(coord(rng)), nm(coord(rng)));
+    const Eigen::Vector3d nv = Eigen::Vector3d{gauss(rng), gauss(rng), gauss(rng)}.normalized();
+    const double x = coord(rng), y = coord(rng), z = coord(rng);  // drawn in this order under every compiler
+    ps.xyz_mm.emplace_back(nm(x), nm(y), nm(z));
     ps.normal.emplace_back(nv);
     ps.feature.push_back(ps.InternFeature(fmt::format("F{}", (i / 500) % 20)));
   }

@@ -66,7 +66,8 @@ TEST(Study, IdentificationCoverage) {
     std::map<std::string, double> truth;
     kinematics::ErrorState errors(*machine);
     for (const auto& name : names) {
-      const double v = (sign(rng) ? 1.0 : -1.0) * mag(rng);  // um or urad
+      const double s = sign(rng) ? 1.0 : -1.0;  // drawn before the magnitude under every compiler
+      const double v = s * mag(rng);             // um or urad
       truth[name] = v;
       auto info = kinematics::LookupParameter(*machine, name);
       ASSERT_TRUE(info.ok());
