@@ -268,7 +268,7 @@ class QifParser {
   Status OnStart(const XmlAttrs& attrs, std::string_view name, std::size_t line);
   Status OnEnd(std::string_view name, std::size_t line);
   Status OnBlockText(std::string_view text);  // text of <Points>/<Normals>, in pieces
-  Status ParsePlainBlock();
+  void ParsePlainBlock();
   std::optional<std::size_t> RawOffset(const xmlChar* at) const;
   Status FlushCarry();
   Status OnNumbers(std::string_view text);
@@ -408,7 +408,8 @@ Status QifParser::OnStart(const XmlAttrs& attrs, std::string_view name, std::siz
       if (block_ == Block::kNormals && cur_set_->n_normal != 0)
         return Error(line, "a second <Normals>: expected one per MeasuredPointSet");
       ReserveFor(block_ == Block::kPoints ? &xyz_ : &normal_);
-      return ParsePlainBlock();
+      ParsePlainBlock();
+      return Status::Ok();
     } else if (name == "BinaryPoints" || name == "BinaryNormals") {
       return StartBinary(attrs, name, line);
     }
@@ -784,24 +785,23 @@ std::optional<std::size_t> QifParser::RawOffset(const xmlChar* at) const {
 // that does not parse so (a character reference, a lone CR that libxml2 reads as a line end, a
 // bad number) is undone here and reaches OnBlockText piece by piece from libxml2, which gives
 // the same points, lines and errors.
-Status QifParser::ParsePlainBlock() {
+void QifParser::ParsePlainBlock() {
   const std::optional<std::size_t> at = RawOffset(ctxt_->input->cur);  // libxml2 stands on the '>'
-  if (!at || *at >= raw_.size() || raw_[*at] != '>') return Status::Ok();
+  if (!at || *at >= raw_.size() || raw_[*at] != '>') return;
   const std::size_t b = *at + 1;
   const std::size_t e = std::min(raw_.find('<', b), raw_.size());
   const std::string_view block = raw_.substr(b, e - b);
   for (std::size_t cr = block.find('\r'); cr != std::string_view::npos; cr = block.find('\r', cr + 1))
-    if (cr + 1 == block.size() || block[cr + 1] != '\n') return Status::Ok();
+    if (cr + 1 == block.size() || block[cr + 1] != '\n') return;
   const std::size_t n_xyz = xyz_.size(), n_normal = normal_.size(), set_n = cur_set_->n, set_nn = cur_set_->n_normal;
   const std::size_t line = block_line_;
-  const std::string_view text = block;
   constexpr std::size_t kPieceBytes = std::size_t{1} << 17;  // 128 KiB: a piece is worth a task
   const std::size_t threads = options_.threads > 0 ? static_cast<std::size_t>(options_.threads) : HardwareThreads();
-  const std::size_t pieces = std::min(threads, text.size() / kPieceBytes);
-  if ((pieces > 1 && ParsePlainParallel(text, pieces)) || OnNumbers(text).ok()) {
+  const std::size_t pieces = std::min(threads, block.size() / kPieceBytes);
+  if ((pieces > 1 && ParsePlainParallel(block, pieces)) || OnNumbers(block).ok()) {
     parsed_until_ = e;
     feed_.Skip(b, e, block_line_ - line);
-    return Status::Ok();
+    return;
   }
   xyz_.resize(n_xyz);
   xyz_line_.resize(n_xyz);
@@ -810,7 +810,6 @@ Status QifParser::ParsePlainBlock() {
   cur_set_->n_normal = set_nn;
   block_line_ = line;
   in_triple_ = 0;
-  return Status::Ok();
 }
 
 Status QifParser::FlushCarry() {
