@@ -110,13 +110,15 @@ enum class AngleUnit { kDegree, kRadian, kDms };
 struct DmisModes {
   double mm_per_unit = 1.0;
   AngleUnit angle = AngleUnit::kDegree;
-  int first_axis = 0;  // WKPLAN: 0 XYPLAN, 1 YZPLAN, 2 ZXPLAN
+  int first_axis = 0;  // WKPLAN: 0 XYPLAN, 1 YZPLAN, 2 ZXPLAN, -1 another (a feature's plane)
+  std::string wkplan;  // the last WKPLAN statement
 };
 
 // Position (file units) and vector of `FEAT/POINT,CART|POL,...` from its fields (fields[0] is
 // POINT). A polar point (r, angle, height) lies in the work plane: the angle runs from the
 // plane's first axis toward its second (X->Y, Y->Z, Z->X), the height along its normal; the
-// vector stays i,j,k. Errors: not six numbers, a non-number, an ANGDMS polar angle.
+// vector stays i,j,k. Errors: not six numbers, a non-number, a polar point under ANGDMS or in a
+// work plane other than XYPLAN, YZPLAN or ZXPLAN.
 Status PointActual(const std::vector<std::string_view>& fields, const std::string& label, const DmisModes& modes,
                    std::size_t line, const std::string& source, Eigen::Vector3d& xyz, Eigen::Vector3d& n) {
   auto error = [&](std::string what) { return Status(StatusCode::kParseError, std::move(what), source, line); };
@@ -139,6 +141,9 @@ Status PointActual(const std::vector<std::string_view>& fields, const std::strin
     xyz = Eigen::Vector3d(v[0], v[1], v[2]);
     return Status();
   }
+  if (modes.first_axis < 0)
+    return error(fmt::format("FA({}): a polar point in {}: expected WKPLAN/XYPLAN, YZPLAN or ZXPLAN", label,
+                             DmisEcho(modes.wkplan)));
   if (modes.angle == AngleUnit::kDms)
     return error(fmt::format("FA({}): a polar angle in UNITS ANGDMS: expected ANGDEC or ANGRAD", label));
   const double a_rad = modes.angle == AngleUnit::kDegree ? v[1] * (M_PI / 180.0) : v[1];
@@ -193,10 +198,8 @@ Result<DmisFile> ParseDmisOutput(std::string_view text, const std::string& sourc
     }
     if (up.rfind("WKPLAN/", 0) == 0) {
       const std::string_view plane = std::string_view(up).substr(7);
-      if (plane == "XYPLAN") modes.first_axis = 0;
-      else if (plane == "YZPLAN") modes.first_axis = 1;
-      else if (plane == "ZXPLAN") modes.first_axis = 2;
-      else return error(st.line, fmt::format("{}: expected WKPLAN/XYPLAN, YZPLAN or ZXPLAN", DmisEcho(st.text)));
+      modes.first_axis = plane == "XYPLAN" ? 0 : plane == "YZPLAN" ? 1 : plane == "ZXPLAN" ? 2 : -1;
+      modes.wkplan = st.text;
       continue;
     }
     if (up.rfind("FILNAM/", 0) == 0) {

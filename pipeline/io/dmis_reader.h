@@ -13,8 +13,8 @@
 // other types (`FEAT/CIRCLE`, `PLANE`, `CYLNDR`, ...) are skipped and counted: tpcal fits its
 // features from the points. Other statements (MEAS, PTMEAS, OUTPUT, ...) are ignored.
 // Errors are kParseError `file:line: what was expected` at the statement's first line: a
-// point actual with fewer or more than six numbers, a polar angle under ANGDMS, an unknown unit
-// or work plane, a label
+// point actual with fewer or more than six numbers, a polar point under ANGDMS or in a work
+// plane other than XYPLAN/YZPLAN/ZXPLAN, an unknown unit, a label
 // not in DmisReadOptions::known_features, a `$` continuation at the end of the file.
 #pragma once
 

@@ -61,7 +61,8 @@ TEST(DmisReader, BadFilesSayFileLineAndWhatWasExpected) {
       {"not a number", "FA(S_R_1)=FEAT/POINT,CART,1,2,x,0,0,1\n", 1, "'X' is not a number"},
       {"neither CART nor POL", "FA(S_R_1)=FEAT/POINT,SPH,1,2,3,0,0,1\n", 1, "or FEAT/POINT,POL,r,a,h,i,j,k"},
       {"polar in DMS", "UNITS/MM,ANGDMS\nFA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 2, "expected ANGDEC or ANGRAD"},
-      {"unknown work plane", "WKPLAN/XZ\nFA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 1, "expected WKPLAN/XYPLAN"},
+      {"polar in another work plane", "WKPLAN/FA(PL1)\nFA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0,1\n", 2,
+       "a polar point in 'WKPLAN/FA(PL1)': expected WKPLAN/XYPLAN"},
       {"polar cut short", "FA(S_R_1)=FEAT/POINT,POL,1,2,3,0,0\n", 1, "expected 6 (r,a,h,i,j,k)"},
       {"bad vector", "FA(S_R_1)=FEAT/POINT,CART,1,2,3,0,0,2\n", 1, "expected a unit vector"},
       {"no points", "$$ nothing\nUNITS/MM,ANGDEC\n", 1, "no FA(label)"},
@@ -97,6 +98,9 @@ TEST(DmisReader, PolarPointsLieInTheWorkPlaneInTheAngleUnit) {
   EXPECT_LT((ps.xyz_mm[2] - kMmPerInch * Eigen::Vector3d(2 * std::sin(M_PI / 6), 1, 2 * std::cos(M_PI / 6))).norm(),
             1e-12);
   EXPECT_EQ(ps.normal[1], Eigen::Vector3d(1, 0, 0));
+  // A work plane of another kind does not matter to Cartesian points.
+  auto cart = ParseDmisOutput("WKPLAN/FA(PL1)\nFA(S_R_1)=FEAT/POINT,CART,1,2,3,0,0,1\n", "cart.dmo");
+  ASSERT_TRUE(cart.ok()) << cart.status().ToString();
 }
 
 TEST(DmisReader, LabelThePlanDoesNotKnowIsAnError) {

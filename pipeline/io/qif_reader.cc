@@ -88,6 +88,13 @@ std::string_view TrimXml(std::string_view s) {
   return s;
 }
 
+// QIF's base64 point and normal arrays: <PointsBinary>/<NormalsBinary> (NIST's QIF checks) and
+// <BinaryPoints>/<BinaryNormals> (the QIF 3.0 schema bindings); both spellings are read.
+bool IsBinaryList(std::string_view name) {
+  return name == "PointsBinary" || name == "BinaryPoints" || name == "NormalsBinary" || name == "BinaryNormals";
+}
+bool IsNormalsList(std::string_view name) { return name == "NormalsBinary" || name == "BinaryNormals"; }
+
 std::string QifEcho(std::string_view s) { return "'" + EchoInput(TrimXml(s), 40) + "'"; }
 
 std::optional<double> QifNumber(std::string_view s) {
@@ -261,6 +268,8 @@ class QifParser {
   static void SaxEnd(void* self, const xmlChar* local, const xmlChar* prefix, const xmlChar* uri);
   static void SaxText(void* self, const xmlChar* text, int len);
   static void SaxComment(void* self, const xmlChar* text);
+  static void SaxCdata(void* self, const xmlChar* text, int len);
+  static void SaxPi(void* self, const xmlChar* target, const xmlChar* data);
   std::size_t ParserLine() const { return static_cast<std::size_t>(std::max(1, ctxt_->input->line)); }
   void Fail(Status s);  // keeps the first failure and stops libxml2
 
@@ -288,7 +297,7 @@ class QifParser {
   }
   Status TakeNormal();
   Status StartBinary(const XmlAttrs& attrs, std::string_view name, std::size_t line);
-  Status TakeBinary(bool normals);
+  Status TakeBinary(std::string_view name);
   Status FinishSet();
   void ReserveFor(std::vector<Eigen::Vector3d>* v);
   Result<QifFile> Assemble();
@@ -338,7 +347,10 @@ class QifParser {
   std::size_t binary_line_ = 0, binary_count_ = 0, binary_size_ = 0;
   QifFeed feed_;  // the document as libxml2 reads it
   std::string_view raw_;
-  std::size_t parsed_until_ = 0;  // block text before this file offset was parsed by ParsePlainBlock
+  // The current <Points>/<Normals> text was parsed from the file by ParsePlainBlock: libxml2's
+  // character callbacks up to the next markup are that text again (in libxml2's own buffer, or in
+  // a copy when CR LF line ends send it down its slow path) and are dropped.
+  bool block_parsed_ = false;
 };
 
 Status QifParser::OnStart(const XmlAttrs& attrs, std::string_view name, std::size_t line) {
@@ -404,13 +416,14 @@ Status QifParser::OnStart(const XmlAttrs& attrs, std::string_view name, std::siz
       block_ = name == "Points" ? Block::kPoints : Block::kNormals;
       block_line_ = line;
       in_triple_ = 0;
-      parsed_until_ = 0;
-      if (block_ == Block::kNormals && cur_set_->n_normal != 0)
-        return Error(line, "a second <Normals>: expected one per MeasuredPointSet");
+      block_parsed_ = false;
+      if (block_ == Block::kNormals ? cur_set_->n_normal != 0 : cur_set_->n != 0)
+        return Error(line, fmt::format("a second list of {}: expected one per MeasuredPointSet",
+                                       block_ == Block::kNormals ? "normals" : "points"));
       ReserveFor(block_ == Block::kPoints ? &xyz_ : &normal_);
       ParsePlainBlock();
       return Status::Ok();
-    } else if (name == "BinaryPoints" || name == "BinaryNormals") {
+    } else if (IsBinaryList(name)) {
       return StartBinary(attrs, name, line);
     }
   }
@@ -551,15 +564,16 @@ void QifParser::ReserveFor(std::vector<Eigen::Vector3d>* v) {
 
 // A <BinaryPoints>/<BinaryNormals> (QIF ArrayBinaryType) starts: count and sizeElement checked.
 Status QifParser::StartBinary(const XmlAttrs& attrs, std::string_view name, std::size_t line) {
-  const bool normals = name == "BinaryNormals";
+  const bool normals = IsNormalsList(name);
   if (normals ? cur_set_->n_normal != 0 : cur_set_->n != 0)
     return Error(line, fmt::format("a second list of {}: expected one per MeasuredPointSet", normals ? "normals" : "points"));
   const std::string size = attrs.Get("sizeElement"), count = attrs.Get("count");
   if (size != "8" && size != "4")
     return Error(line, fmt::format("<{} sizeElement=\"{}\">: expected 8 (64-bit IEEE numbers) or 4 (32-bit)", name,
-                                   QifEcho(size)));
+                                   EchoInput(size, 40)));
   auto c = QifIndex(count);
-  if (!count.empty() && !c) return Error(line, fmt::format("<{} count=\"{}\">: expected a number of elements", name, QifEcho(count)));
+  if (!count.empty() && !c)
+    return Error(line, fmt::format("<{} count=\"{}\">: expected a number of elements", name, EchoInput(count, 40)));
   in_binary_ = true;
   binary_.clear();
   binary_line_ = line;
@@ -579,11 +593,15 @@ double BinaryElement(const std::string& bytes, std::size_t k, std::size_t size) 
 
 // The decoded array as points (file units, the line of its start tag) or unit normals: x y z per
 // point; `count` may give the elements (3 per point) or the points.
-Status QifParser::TakeBinary(bool normals) {
-  const char* name = normals ? "BinaryNormals" : "BinaryPoints";
+Status QifParser::TakeBinary(std::string_view name) {
+  const bool normals = IsNormalsList(name);
   std::size_t bad = 0;
+  const std::size_t text_size = binary_.size();
   const std::optional<std::string> bytes = DecodeBase64(binary_, &bad);
   std::string().swap(binary_);
+  if (!bytes && bad == text_size)
+    return Error(binary_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\": its base64 text ends inside a group "
+                                           "of 4 characters: expected whole groups (with = padding)", name, cur_set_id_));
   if (!bytes)
     return Error(binary_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\": character {} of its text is not "
                                            "base64: expected RFC 4648 base64", name, cur_set_id_, bad + 1));
@@ -599,7 +617,7 @@ Status QifParser::TakeBinary(bool normals) {
   dst.reserve(dst.size() + n);
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) triple_[k] = BinaryElement(*bytes, 3 * i + static_cast<std::size_t>(k), binary_size_);
-    if (!std::isfinite(triple_[0] + triple_[1] + triple_[2]))
+    if (!std::isfinite(triple_[0]) || !std::isfinite(triple_[1]) || !std::isfinite(triple_[2]))
       return Error(binary_line_, fmt::format("<{}> triple {} of MeasuredPointSet id=\"{}\" is not finite: expected "
                                              "numbers", name, i + 1, cur_set_id_));
     if (normals) {
@@ -677,9 +695,9 @@ Status QifParser::OnEnd(std::string_view name, std::size_t line) {
           return Error(triple_line_, fmt::format("<{}> of MeasuredPointSet id=\"{}\" ends inside a triple: expected "
                                                  "three numbers per point", name, cur_set_id_));
         block_ = Block::kNone;
-      } else if (name == "BinaryPoints" || name == "BinaryNormals") {
+      } else if (IsBinaryList(name)) {
         in_binary_ = false;
-        return TakeBinary(name == "BinaryNormals");
+        return TakeBinary(name);
       } else if (name == "Compensated") {
         if (text == "true" || text == "1") cur_set_->compensated = true;
         else if (text == "false" || text == "0") cur_set_->compensated = false;
@@ -702,6 +720,7 @@ void QifParser::Fail(Status s) {
 void QifParser::SaxStart(void* self, const xmlChar* local, const xmlChar*, const xmlChar*, int, const xmlChar**,
                          int n_attrs, int, const xmlChar** attrs) {
   auto* p = static_cast<QifParser*>(self);
+  p->block_parsed_ = false;
   if (!p->failure_.ok()) return;
   const std::string_view name = local != nullptr ? reinterpret_cast<const char*>(local) : "";
   if (Status s = p->OnElement(name, XmlAttrs{attrs, n_attrs}); !s.ok()) p->Fail(std::move(s));
@@ -722,6 +741,7 @@ Status QifParser::OnElement(std::string_view name, const XmlAttrs& attrs) {
 
 void QifParser::SaxEnd(void* self, const xmlChar*, const xmlChar*, const xmlChar*) {
   auto* p = static_cast<QifParser*>(self);
+  p->block_parsed_ = false;
   if (!p->failure_.ok() || p->stack_.empty()) return;
   Status s = p->block_ != Block::kNone ? p->FlushCarry() : Status::Ok();
   if (s.ok()) s = p->OnEnd(p->stack_.back(), p->ParserLine());
@@ -736,15 +756,23 @@ void QifParser::SaxText(void* self, const xmlChar* text, int len) {
   if (p->in_binary_) {
     p->binary_.append(value);
   } else if (p->block_ != Block::kNone) {
-    if (p->parsed_until_ != 0 && p->RawOffset(text).value_or(SIZE_MAX) < p->parsed_until_) return;
+    if (p->block_parsed_) return;
     if (Status s = p->OnBlockText(value); !s.ok()) p->Fail(std::move(s));
   } else if (p->text_.size() < 4096) {
     p->text_.append(value);
   }
 }
 
+void QifParser::SaxCdata(void* self, const xmlChar* text, int len) {
+  static_cast<QifParser*>(self)->block_parsed_ = false;
+  SaxText(self, text, len);
+}
+
+void QifParser::SaxPi(void* self, const xmlChar*, const xmlChar*) { static_cast<QifParser*>(self)->block_parsed_ = false; }
+
 void QifParser::SaxComment(void* self, const xmlChar* text) {
   auto* p = static_cast<QifParser*>(self);
+  p->block_parsed_ = false;
   if (!p->failure_.ok() || p->block_ == Block::kNone || text == nullptr) return;
   if (Status s = p->FlushCarry(); !s.ok()) return p->Fail(std::move(s));  // a comment ends a number
   for (const xmlChar* c = text; *c != 0; ++c) p->block_line_ += *c == '\n' ? 1 : 0;
@@ -799,7 +827,7 @@ void QifParser::ParsePlainBlock() {
   const std::size_t threads = options_.threads > 0 ? static_cast<std::size_t>(options_.threads) : HardwareThreads();
   const std::size_t pieces = std::min(threads, block.size() / kPieceBytes);
   if ((pieces > 1 && ParsePlainParallel(block, pieces)) || OnNumbers(block).ok()) {
-    parsed_until_ = e;
+    block_parsed_ = true;
     feed_.Skip(b, e, block_line_ - line);
     return;
   }
@@ -835,8 +863,10 @@ Result<QifFile> QifParser::Run(std::string_view text) {
   sax.initialized = XML_SAX2_MAGIC;
   sax.startElementNs = &QifParser::SaxStart;
   sax.endElementNs = &QifParser::SaxEnd;
-  sax.characters = sax.ignorableWhitespace = sax.cdataBlock = &QifParser::SaxText;
+  sax.characters = sax.ignorableWhitespace = &QifParser::SaxText;
+  sax.cdataBlock = &QifParser::SaxCdata;
   sax.comment = &QifParser::SaxComment;
+  sax.processingInstruction = &QifParser::SaxPi;
 #if LIBXML_VERSION >= 21200
   sax.serror = &QifParser::OnXmlError;
 #else
