@@ -12,10 +12,11 @@
 namespace tpcal::fitting {
 namespace {
 
-// Axes in the plane of the points, every 10 degrees. A shallow patch (a 20 degree arc 0.2 R long:
-// 0.35 R by 0.2 R, sagitta 1.5 % of R) can have every minimum of the algebraic score off its
-// axis, and from a wrong axis Levenberg-Marquardt runs off toward the plane (R -> infinity);
-// a cylinder's axis lies close to the best-fit plane of such a patch.
+// Axes in the plane of the points, every 10 degrees, tried when the algebraic score's starts give
+// no cylinder (no start, no convergence, or a radius beyond 1e6 x the data's extent). A shallow
+// patch (a 20 degree arc 0.2 R long: 0.35 R by 0.2 R, sagitta 1.5 % of R) can have every minimum
+// of the algebraic score off its axis, and from a wrong axis Levenberg-Marquardt runs off toward
+// the plane (R -> infinity); a cylinder's axis lies close to the best-fit plane of such a patch.
 std::vector<Eigen::Vector3d> InPlaneDirections(const internal::AxisFitSetup& setup) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& p : setup.sample_mm) mean += p;
@@ -47,17 +48,22 @@ Result<FitResult<Cylinder>> FitCylinder(std::span<const Eigen::Vector3d> points_
   for (const auto& w : *dirs) {
     if (auto s = internal::ProjectedCircleStart(*setup, w)) starts.push_back(*s);
   }
-  if (starts.empty()) {
-    return Status(StatusCode::kDegenerate, what + ": no direction gives a circular cross-section (the points do "
-                                                  "not lie on a cylinder: collinear or coplanar?)");
-  }
-  auto run = internal::BestOfStarts<CylinderModel>(points_mm, *setup, starts, options);
-  if (!run.ok() && !axis_hint.has_value()) {
+  const bool no_start = starts.empty();
+  using Run = Result<internal::LmRun<CylinderModel>>;
+  auto usable = [&](const Run& r) { return r.ok() && r->state.radius > 0.0 && r->state.radius <= 1e6 * setup->extent; };
+  Run run = no_start ? Run(Status(StatusCode::kDegenerate, "no start"))
+                     : internal::BestOfStarts<CylinderModel>(points_mm, *setup, starts, options);
+  if (!usable(run) && !axis_hint.has_value()) {
     std::vector<CylinderModel::State> more;
     for (const auto& w : InPlaneDirections(*setup))
       if (auto s = internal::ProjectedCircleStart(*setup, w)) more.push_back(*s);
-    if (auto again = internal::BestOfStarts<CylinderModel>(points_mm, *setup, more, options); again.ok())
-      run = std::move(again);
+    Run again = more.empty() ? Run(Status(StatusCode::kDegenerate, "no start"))
+                             : internal::BestOfStarts<CylinderModel>(points_mm, *setup, more, options);
+    if (usable(again) || (!run.ok() && again.ok())) run = std::move(again);
+  }
+  if (!run.ok() && no_start) {
+    return Status(StatusCode::kDegenerate, what + ": no direction gives a circular cross-section (the points do "
+                                                  "not lie on a cylinder: collinear or coplanar?)");
   }
   if (!run.ok()) return run.status().WithContext(what);
   const CylinderModel model(points_mm, setup->origin_mm, setup->scale_mm);
