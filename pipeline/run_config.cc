@@ -8,6 +8,7 @@
 #include <set>
 #include <type_traits>
 
+#include "core/ascii.h"
 #include "core/input_echo.h"
 #include "core/text_file.h"
 #include "kinematics/machine_yaml.h"
@@ -191,7 +192,8 @@ static Result<PipelineConfig> ParsePipelineRoot(const YAML::Node& root, const st
     } else if (key == "columns") {
       auto m = As<std::map<std::string, std::string>>(source, v, key, "a map of role: column name");
       if (!m.ok()) return m.status();
-      c.columns.assign(m->begin(), m->end());
+      c.columns.clear();
+      for (const auto& [role, name] : *m) c.columns.emplace_back(AsciiLower(role), name);  // roles in any case
       PointReadOptions read;
       read.columns = c.columns;
       if (Status s = read.Validate(); !s.ok()) return ParseErrorAt(source, v, "'columns': " + s.message());

@@ -84,6 +84,12 @@ TEST(PipelineOverrides, ColumnMappingFromTheFileOrTheFlagsAndWrittenBack) {
   o.columns = {"x"};
   EXPECT_EQ(ApplyPipelineOverrides(*plain, o, false).status().message(),
             "--column 'x': expected ROLE=NAME (e.g. feature=Name, x=X)");
+  auto upper = ParsePipelineConfig("points: a.csv\nout: o\ncolumns: {Feature: Pt ID, X: PX}\n", "/d/p.yaml");
+  ASSERT_TRUE(upper.ok()) << upper.status().ToString();  // roles in any case, as after --column
+  EXPECT_EQ(upper->columns, file->columns);
+  auto twice = ParsePipelineConfig("points: a.csv\nout: o\ncolumns: {x: A, X: B}\n", "/d/p.yaml");
+  ASSERT_FALSE(twice.ok());
+  EXPECT_NE(twice.status().message().find("column role 'x' is mapped twice"), std::string::npos) << twice.status().ToString();
   auto bad = ParsePipelineConfig("points: a.csv\nout: o\ncolumns:\n  w: PX\n", "/d/p.yaml");
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.status().ToString(), "/d/p.yaml:4: 'columns': column role 'w': expected one of feature, x, y, z, i, j, k");
