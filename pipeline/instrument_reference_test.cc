@@ -113,27 +113,36 @@ TEST(InstrumentReference, DriftWithheldFromTheInstrumentIsNamed) {
 // over the machining time makes parameters disagree. They are refitted on top of the instrument
 // (named in the base model, the gap with everything held kept beside), and the tilt drift
 // candidate names what is left. Held, this piece read linear_straightness (README).
+// Truth: a tilt drift of the C line (E_B0C, 40 urad, tau 1500 s) on the piece, none in the cold
+// ball test. Over 20 noise realisations (pieces 1000+k, balls 2000+k) it was named 20 times, its
+// parameter refitted each time, and the cold piece stayed clean 19 times; at 20 urad it was named
+// 5 times of 20 (below what the turning piece resolves), so the test runs five realisations of
+// the larger drift and asks every one to name it, and four of five cold pieces to stay clean.
 TEST(InstrumentReference, TiltDriftIsNamedBeyondTheDisagreeingParameters) {
-  const std::string tilt = "effects:\n  - thermal_drift:\n      parameter: E_B0C\n      K_urad: 20\n      tau_s: 1500\n";
-  auto d = AgainstBall(CutPiece(std::string(kColdErrors) + tilt, 9), WriteBallpos(0.5, 13));
-  ASSERT_TRUE(d.ok()) << d.status().ToString();
-  ASSERT_GT(d->reference_agreement->disagreeing, 0);
-  std::set<std::string> disagreeing;
-  for (const AgreementRow& r : d->reference_agreement->rows)
-    if (!r.agree) disagreeing.insert(r.members.begin(), r.members.end());
-  ASSERT_FALSE(d->base_parameters.empty());
-  EXPECT_NE(d->base_model.find("refitted"), std::string::npos) << d->base_model;
-  for (const auto& p : d->base_parameters) {
-    EXPECT_TRUE(disagreeing.count(p.name)) << p.name;
-    EXPECT_NE(d->base_model.find(p.name), std::string::npos) << d->base_model;
+  const std::string tilt = "effects:\n  - thermal_drift:\n      parameter: E_B0C\n      K_urad: 40\n      tau_s: 1500\n";
+  int cold_clean = 0;
+  for (int k = 0; k < 5; ++k) {
+    SCOPED_TRACE(k);
+    auto d = AgainstBall(CutPiece(std::string(kColdErrors) + tilt, 1000 + k), WriteBallpos(0.5, 2000 + k));
+    ASSERT_TRUE(d.ok()) << d.status().ToString();
+    ASSERT_GT(d->reference_agreement->disagreeing, 0);
+    std::set<std::string> disagreeing;
+    for (const AgreementRow& r : d->reference_agreement->rows)
+      if (!r.agree) disagreeing.insert(r.members.begin(), r.members.end());
+    ASSERT_FALSE(d->base_parameters.empty());
+    EXPECT_NE(d->base_model.find("refitted"), std::string::npos) << d->base_model;
+    for (const auto& p : d->base_parameters) {
+      EXPECT_TRUE(disagreeing.count(p.name)) << p.name;
+      EXPECT_NE(d->base_model.find(p.name), std::string::npos) << d->base_model;
+    }
+    ASSERT_TRUE(d->reference_held_rms_um.has_value());
+    EXPECT_GT(*d->reference_held_rms_um, d->rms_um);
+    EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
+    auto cold = AgainstBall(CutPiece(kColdErrors, 3000 + k), WriteBallpos(0.5, 4000 + k));
+    ASSERT_TRUE(cold.ok()) << cold.status().ToString();
+    cold_clean += !cold->reference_held_rms_um.has_value() && cold->base_parameters.empty();  // nothing refitted
   }
-  ASSERT_TRUE(d->reference_held_rms_um.has_value());
-  EXPECT_GT(*d->reference_held_rms_um, d->rms_um);
-  EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
-  auto cold = AgainstBall(CutPiece(kColdErrors, 7), WriteBallpos(0.5, 11));
-  ASSERT_TRUE(cold.ok()) << cold.status().ToString();
-  EXPECT_FALSE(cold->reference_held_rms_um.has_value());  // nothing disagrees: nothing refitted
-  EXPECT_TRUE(cold->base_parameters.empty());
+  EXPECT_GE(cold_clean, 4);
 }
 
 TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
