@@ -16,9 +16,9 @@
 #include "core/parallel.h"
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/report/run_tables.h"
-#include "pipeline/report_html.h"
+#include "pipeline/report/report_html.h"
+#include "pipeline/report/run_json.h"
 #include "pipeline/run_config.h"
-#include "pipeline/run_json.h"
 
 namespace tpcal::pipeline {
 namespace {
@@ -67,12 +67,74 @@ void RemoveStaleSiblings(const fs::path& parent, const std::string& name) {
   for (const auto& p : stale) fs::remove_all(p, ec);
 }
 
+RunSettings SettingsOf(const PipelineConfig& c) {
+  return {.testpiece = c.testpiece,
+          .points = c.points,
+          .machine = c.machine,
+          .parameters = c.parameters,
+          .seed = c.seed,
+          .primary = c.primary,
+          .jackknife_groups = c.jackknife_groups,
+          .monte_carlo_trials = c.monte_carlo_trials,
+          .diagnose = c.diagnose,
+          .truth = c.truth,
+          .figures = c.figures,
+          .reference_instrument = c.reference_instrument,
+          .reference_file = c.reference_file,
+          .yaml = FormatPipelineConfig(c)};
+}
+
+RawScanSummary RawScanSummaryOf(const RawScanLabeling& l) {
+  RawScanSummary s{.num_points = l.num_points,
+                   .num_rejected = l.num_rejected,
+                   .labelled_fraction = l.labelled_fraction,
+                   .rms_distance_um = l.rms_distance_um,
+                   .symmetry_order = l.symmetry_order,
+                   .symmetry_resolved_by = l.symmetry_resolved_by,
+                   .part_from_cmm = l.part_from_cmm,
+                   .points_per_feature = {},
+                   .message = l.message};
+  for (const auto& c : l.counts) s.points_per_feature.emplace_back(c.feature, c.points);
+  return s;
+}
+
+ScanCellsSummary ScanCellsSummaryOf(const ScanCellSummary& c) {
+  return {.num_points = c.num_points,
+          .num_cells = c.num_cells,
+          .mean_points_per_cell = c.mean_points_per_cell,
+          .max_points_per_cell = c.points_per_cell_max,
+          .max_cell_mm = c.max_cell_mm,
+          .max_cell_deg = c.max_cell_deg};
+}
+
 }  // namespace
 
+RunReport ReportOf(const RunResult& r) {
+  RunReport report{.settings = SettingsOf(r.config),
+                   .piece_name = r.piece_name,
+                   .machine_name = r.machine_name,
+                   .input = {.format = PointFormatName(r.points_info.format),
+                             .source_units = r.points_info.source_units == LengthUnit::kMm ? "mm" : "in",
+                             .num_points = r.num_points,
+                             .digest_xxh64 = r.points_digest},
+                   .raw_scan = std::nullopt,
+                   .scan_cells = std::nullopt,
+                   .inspection = &r.stage.inspection,
+                   .identification = &r.stage.identification,
+                   .diagnosis = r.diagnosis ? &*r.diagnosis : nullptr,
+                   .diagnosis_error = r.diagnosis ? std::string() : r.diagnosis_status.ToString(),
+                   .truth = &r.truth,
+                   .figures = &r.figures};
+  if (r.raw_scan) report.raw_scan = RawScanSummaryOf(*r.raw_scan);
+  if (r.scan_cells) report.scan_cells = ScanCellsSummaryOf(*r.scan_cells);
+  return report;
+}
+
 std::vector<RunFile> RenderRunFiles(const RunResult& r) {
+  const RunReport report = ReportOf(r);
   std::vector<RunFile> files;
-  files.push_back({"report.html", RenderReportHtml(r)});
-  files.push_back({"result.json", RunResultJson(r)});
+  files.push_back({"report.html", RenderReportHtml(report)});
+  files.push_back({"result.json", RunReportJson(report)});
   files.push_back({"config.yaml", FormatPipelineConfig(r.config)});
   files.push_back({"identification.csv", IdentificationCsv(r.stage.identification, r.truth)});
   files.push_back({"identifiability.csv", IdentifiabilityCsv(r.stage.identification)});

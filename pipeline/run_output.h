@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/status.h"
+#include "pipeline/report/run_report.h"
 #include "pipeline/run_stage.h"
 
 namespace tpcal::pipeline {
@@ -25,6 +26,9 @@ struct RunFile {
   std::string relative_path;  // "report.html", "figures/machine_errors.svg"
   std::string contents;
 };
+
+// What result.json and report.html show of `result` (pointing into it: keep `result` alive).
+RunReport ReportOf(const RunResult& result);
 
 // All files of a run, rendered in memory (deterministic: same result, same bytes).
 std::vector<RunFile> RenderRunFiles(const RunResult& result);

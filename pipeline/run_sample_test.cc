@@ -14,7 +14,8 @@
 #include "pipeline/io/atomic_file.h"
 #include "pipeline/io/point_io.h"
 #include "pipeline/raw_scan_labeling.h"
-#include "pipeline/run_json.h"
+#include "pipeline/report/run_json.h"
+#include "pipeline/run_output.h"
 #include "pipeline/run_stage.h"
 
 namespace tpcal::pipeline {
@@ -136,7 +137,7 @@ TEST(RunSample, TurningRawSampleRecoversTheStatedTruth) {
   EXPECT_LT(id.rms_after_um, 0.7);  // the CMM noise (0.5 um): no mislabelled point left
   // result.json states the labelling: every point of the file counted, labelled + rejected.
   ASSERT_TRUE(r->raw_scan.has_value());
-  const auto j = nlohmann::json::parse(RunResultJson(*r));
+  const auto j = nlohmann::json::parse(RunReportJson(ReportOf(*r)));
   const auto& raw = j.at("input").at("raw_scan");
   EXPECT_EQ(j.at("input").at("num_points").get<std::size_t>(), r->raw_scan->num_points);
   EXPECT_EQ(raw.at("num_labelled").get<std::size_t>() + raw.at("num_rejected").get<std::size_t>(),

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "pipeline/report_html.h"
-#include "pipeline/run_json.h"
+#include "pipeline/report/report_html.h"
+#include "pipeline/report/run_json.h"
 #include "pipeline/run_output.h"
 
 namespace tpcal::pipeline {
@@ -180,7 +180,7 @@ TEST(RunStage, StagesAreTimedInOrder) {
 
 TEST(RunStage, JsonFollowsTheSchemaAndIsDeterministic) {
   const RunResult& r = SampleRun();
-  const std::string json = RunResultJson(r);
+  const std::string json = RunReportJson(ReportOf(r));
   const auto j = nlohmann::json::parse(json);
   EXPECT_EQ(j.at("schema"), "tpcal.run/1");
   EXPECT_TRUE(j.at("tpcal").at("version").is_string());
@@ -226,18 +226,18 @@ TEST(RunStage, JsonFollowsTheSchemaAndIsDeterministic) {
   // Same inputs and seed: the same bytes (a fresh run, not the cached one).
   auto again = RunPipeline(SampleConfig());
   ASSERT_TRUE(again.ok()) << again.status().ToString();
-  EXPECT_TRUE(RunResultJson(*again) == json);
+  EXPECT_TRUE(RunReportJson(ReportOf(*again)) == json);
   // A different seed changes only what depends on it (the Monte Carlo figures and the seed fields).
   PipelineConfig other = SampleConfig();
   other.seed = 7;
   auto seeded = RunPipeline(other);
   ASSERT_TRUE(seeded.ok());
-  EXPECT_FALSE(RunResultJson(*seeded) == json);
+  EXPECT_FALSE(RunReportJson(ReportOf(*seeded)) == json);
 }
 
 TEST(RunStage, ReportHasEverySectionAndFigure) {
   const RunResult& r = SampleRun();
-  const std::string html = RenderReportHtml(r);
+  const std::string html = RenderReportHtml(ReportOf(r));
   for (const char* id : {"id=\"summary\"", "id=\"identification\"", "id=\"identification-table\"",
                          "id=\"identifiability\"", "id=\"identifiability-table\"", "id=\"gdt\"", "id=\"gdt-table\"",
                          "id=\"features-table\"", "id=\"config\"", "id=\"fig-machine_errors\"",
@@ -264,7 +264,7 @@ TEST(RunStage, OutputDirectoryIsCompleteAndReplacedAtomically) {
                            "figures/hole_positions.svg", "figures/circularity.svg", "figures/vectors.svg",
                            "figures/gap.svg"})
     EXPECT_TRUE(fs::is_regular_file(dir / name)) << name;
-  EXPECT_EQ(ReadRunText(dir / "result.json"), RunResultJson(r));
+  EXPECT_EQ(ReadRunText(dir / "result.json"), RunReportJson(ReportOf(r)));
   // Rewriting replaces the previous run as a whole: a stray file of the old run is gone.
   { std::ofstream(dir / "stale.txt") << "old"; }
   ASSERT_TRUE(WriteDirectoryAtomic(dir.string(), files).ok());

@@ -1,4 +1,4 @@
-#include "pipeline/run_json.h"
+#include "pipeline/report/run_json.h"
 
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/report/fit_json.h"
@@ -11,7 +11,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json ConfigJson(const PipelineConfig& c) {
+Json ConfigJson(const RunSettings& c) {
   Json j = {{"schema", "tpcal.pipeline/1"},
           {"testpiece", c.testpiece},
           {"points", c.points},
@@ -34,33 +34,33 @@ Json ConfigJson(const PipelineConfig& c) {
 
 }  // namespace
 
-std::string RunResultJson(const RunResult& r) {
-  const auto& id = r.stage.identification;
+std::string RunReportJson(const RunReport& r) {
+  const auto& id = *r.identification;
   Json params = Json::array();
   for (const auto& p : id.parameters) {
     Json j = ParameterEstimateJson(p);
-    j["primary_method"] = kinematics::UncertaintyMethodName(r.config.primary);
-    if (auto it = r.truth.find(p.name); it != r.truth.end()) j["truth"] = it->second;
+    j["primary_method"] = kinematics::UncertaintyMethodName(r.settings.primary);
+    if (auto it = r.truth->find(p.name); it != r.truth->end()) j["truth"] = it->second;
     params.push_back(std::move(j));
   }
 
   Json figures = Json::array();
-  for (const auto& f : r.figures) figures.push_back(f.name);
+  for (const auto& f : *r.figures) figures.push_back(f.name);
 
   Json out = {
       {"schema", "tpcal.run/1"},
       {"tpcal", {{"version", kVersion}, {"git_revision", kGitRevision}}},
-      {"seed", r.config.seed},
-      {"config", ConfigJson(r.config)},
+      {"seed", r.settings.seed},
+      {"config", ConfigJson(r.settings)},
       {"input",
-       {{"points", r.config.points},
-        {"format", PointFormatName(r.points_info.format)},
-        {"digest_xxh64", r.points_digest},
-        {"num_points", r.num_points},
-        {"source_units", r.points_info.source_units == LengthUnit::kMm ? "mm" : "in"}}},
+       {{"points", r.settings.points},
+        {"format", r.input.format},
+        {"digest_xxh64", r.input.digest_xxh64},
+        {"num_points", r.input.num_points},
+        {"source_units", r.input.source_units}}},
       {"piece", r.piece_name},
       {"machine", r.machine_name},
-      {"inspection", FitResultJsonValue(r.stage.inspection)},
+      {"inspection", FitResultJsonValue(*r.inspection)},
       {"identification",
        {{"n_points", id.num_observations},
         {"n_features", id.num_groups},
@@ -70,19 +70,19 @@ std::string RunResultJson(const RunResult& r) {
         {"alignment", RigidJson(id.alignment)}}},
       {"figures", std::move(figures)}};
   if (r.scan_cells) {
-    const ScanCellSummary& c = *r.scan_cells;
+    const ScanCellsSummary& c = *r.scan_cells;
     out["input"]["scan_cells"] = {{"num_points", c.num_points},
                                   {"num_cells", c.num_cells},
                                   {"mean_points_per_cell", c.mean_points_per_cell},
-                                  {"max_points_per_cell", c.points_per_cell_max},
+                                  {"max_points_per_cell", c.max_points_per_cell},
                                   {"max_cell_mm", c.max_cell_mm},
                                   {"max_cell_deg", c.max_cell_deg},
                                   {"note", "identification and diagnosis ran on one observation per scan-line cell"}};
   }
   if (r.raw_scan) {
-    const RawScanLabeling& l = *r.raw_scan;
+    const RawScanSummary& l = *r.raw_scan;
     Json counts = Json::object();
-    for (const auto& c : l.counts) counts[c.feature] = c.points;
+    for (const auto& [feature, points] : l.points_per_feature) counts[feature] = points;
     out["input"]["raw_scan"] = {{"num_points", l.num_points},
                                 {"num_labelled", l.num_points - l.num_rejected},
                                 {"num_rejected", l.num_rejected},
@@ -96,9 +96,9 @@ std::string RunResultJson(const RunResult& r) {
   }
   if (r.diagnosis) {
     out["diagnosis"] = DiagnosisJsonValue(
-        *r.diagnosis, {{"points", r.config.points}, {"testpiece", r.config.testpiece}, {"machine", r.machine_name}});
-  } else if (r.config.diagnose) {
-    out["diagnosis"] = {{"error", r.diagnosis_status.ToString()}};
+        *r.diagnosis, {{"points", r.settings.points}, {"testpiece", r.settings.testpiece}, {"machine", r.machine_name}});
+  } else if (r.settings.diagnose) {
+    out["diagnosis"] = {{"error", r.diagnosis_error}};
   }
   return out.dump(2) + "\n";
 }

@@ -1,5 +1,5 @@
 // result.json of `tpcal run` (schema "tpcal.run/1"): every number of the run with the effective
-// configuration, tpcal version, git revision and seed. Deterministic: the same RunResult gives
+// configuration, tpcal version, git revision and seed. Deterministic: the same report gives
 // the same bytes (no time stamps, no timings, no absolute paths beyond those configured).
 //
 // {
@@ -27,10 +27,10 @@
 
 #include <string>
 
-#include "pipeline/run_stage.h"
+#include "pipeline/report/run_report.h"
 
 namespace tpcal::pipeline {
 
-std::string RunResultJson(const RunResult& result);
+std::string RunReportJson(const RunReport& report);
 
 }  // namespace tpcal::pipeline

@@ -1,4 +1,4 @@
-#include "pipeline/report_html.h"
+#include "pipeline/report/report_html.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,6 @@
 
 #include "core/units.h"
 #include "core/xml_escape.h"
-#include "pipeline/run_config.h"
 #include "pipeline/report/diagnosis_html_blocks.h"
 #include "pipeline/report/reference_agreement_report.h"
 #include "pipeline/report/svg_writer.h"
@@ -69,10 +68,10 @@ const kinematics::Uncertainty* Method(const kinematics::ParameterEstimate& p, ki
   return nullptr;
 }
 
-std::string IdentificationTable(const RunResult& r) {
+std::string IdentificationTable(const RunReport& r) {
   using kinematics::UncertaintyMethod;
-  const auto& id = r.stage.identification;
-  const bool truth = !r.truth.empty();
+  const auto& id = (*r.identification);
+  const bool truth = !r.truth->empty();
   std::string h;
   h += "<table id=\"identification-table\"><tr><th class=\"t\">parameter</th><th class=\"t\">ISO 230-1</th>"
        "<th class=\"t\">unit</th><th>value</th><th>u analytic</th><th>u jackknife (points)</th>"
@@ -88,7 +87,7 @@ std::string IdentificationTable(const RunResult& r) {
       for (auto m : {UncertaintyMethod::kAnalytic, UncertaintyMethod::kJackknifePoints,
                      UncertaintyMethod::kJackknifeGroups, UncertaintyMethod::kMonteCarlo}) {
         const auto* u = Method(p, m);
-        const bool primary = m == r.config.primary;
+        const bool primary = m == r.settings.primary;
         if (u && u->available)
           h += fmt::format("<td>{}{}{}</td>", primary ? "<b>" : "", P(u->u, p.unit, 3), primary ? "</b>" : "");
         else
@@ -99,8 +98,8 @@ std::string IdentificationTable(const RunResult& r) {
       h += "<td>-</td><td>-</td><td>-</td><td>-</td><td>-</td><td>-</td><td class=\"t\">no</td>";
     }
     if (truth) {
-      auto it = r.truth.find(p.name);
-      if (it == r.truth.end()) {
+      auto it = r.truth->find(p.name);
+      if (it == r.truth->end()) {
         h += "<td>-</td><td>-</td>";
       } else {
         h += fmt::format("<td>{}</td><td>{}</td>", P(it->second, p.unit, 2),
@@ -114,13 +113,13 @@ std::string IdentificationTable(const RunResult& r) {
       "<p class=\"meta\">u: standard uncertainty (k = 1) by each method; bold: the primary method ({}), which "
       "gives the 95 % interval. Observations: {} points in {} features; residual RMS {} um before, {} um after "
       "identification; sigma {} um; {} iterations ({}).</p>\n",
-      kinematics::UncertaintyMethodName(r.config.primary), id.num_observations, id.num_groups, F(id.rms_before_um, 3),
+      kinematics::UncertaintyMethodName(r.settings.primary), id.num_observations, id.num_groups, F(id.rms_before_um, 3),
       F(id.rms_after_um, 3), F(id.sigma_um, 3), id.iterations, E(id.termination));
   return h;
 }
 
-std::string IdentifiabilityTable(const RunResult& r) {
-  const auto& ia = r.stage.identification.identifiability;
+std::string IdentifiabilityTable(const RunReport& r) {
+  const auto& ia = (*r.identification).identifiability;
   std::string h = "<table id=\"identifiability-table\">\n";
   h += fmt::format("<tr><th class=\"t\">parameters</th><td>{}</td></tr>\n", ia.num_parameters);
   h += fmt::format("<tr><th class=\"t\">rank</th><td>{}</td></tr>\n", ia.rank);
@@ -153,10 +152,10 @@ std::string IdentifiabilityTable(const RunResult& r) {
 
 std::string FigureHtml(const Figure& f);
 
-std::string DiagnosisSection(const RunResult& r) {
+std::string DiagnosisSection(const RunReport& r) {
   std::string h = "<h2 id=\"diagnosis\">Gap diagnosis</h2>\n";
   if (!r.diagnosis) {
-    h += fmt::format("<p class=\"warn\">The diagnosis could not be made: {}</p>\n", E(r.diagnosis_status.ToString()));
+    h += fmt::format("<p class=\"warn\">The diagnosis could not be made: {}</p>\n", E(r.diagnosis_error));
     return h;
   }
   const DiagnosisResult& d = *r.diagnosis;
@@ -219,7 +218,7 @@ std::string DiagnosisSection(const RunResult& r) {
       h += fmt::format("<li>{}: {:.1f} % of a typical signature visible</li>\n", E(w.family), 100.0 * w.visible_share);
     h += "</ul>\n";
   }
-  for (const auto& f : r.figures)
+  for (const auto& f : *r.figures)
     if (f.name == "gap") h += FigureHtml(f);
   return h;
 }
@@ -266,30 +265,30 @@ std::string FigureHtml(const Figure& f) {
 
 std::string ReportOkTitle(std::size_t figures) { return fmt::format("tpcal report: OK ({} figures)", figures); }
 
-std::string RenderReportHtml(const RunResult& r) {
-  const auto& id = r.stage.identification;
+std::string RenderReportHtml(const RunReport& r) {
+  const auto& id = (*r.identification);
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<title>tpcal report: NOT CHECKED</title>\n";
   h += fmt::format("<style>{}</style>\n", kCss);
   h += kScript;
   h += "</head>\n";
-  h += fmt::format("<body data-figures=\"{}\">\n", r.figures.size());
+  h += fmt::format("<body data-figures=\"{}\">\n", r.figures->size());
   h += fmt::format("<h1>Machine-tool calibration report: {}</h1>\n", E(r.piece_name));
   h += fmt::format(
       "<p class=\"meta\">Machine: {}. Points: {} ({} points, {}, XXH64 {}). tpcal {} ({}), seed {}.</p>\n",
-      E(r.machine_name), E(r.config.points), r.num_points, PointFormatName(r.points_info.format), r.points_digest,
-      kVersion, kGitRevision, r.config.seed);
+      E(r.machine_name), E(r.settings.points), r.input.num_points, r.input.format, r.input.digest_xxh64,
+      kVersion, kGitRevision, r.settings.seed);
   if (r.scan_cells)
     h += fmt::format(
         "<p class=\"meta\">Dense scan: the {} points were pooled into {} scan-line cells (mean {:.1f} points; at "
         "most {} points, {:g} mm and {:g} deg of any axis each). GD&amp;T used every point; identification and "
         "diagnosis used one observation per cell, so their point counts, residuals and gaps are per cell.</p>\n",
         r.scan_cells->num_points, r.scan_cells->num_cells, r.scan_cells->mean_points_per_cell,
-        r.scan_cells->points_per_cell_max, r.scan_cells->max_cell_mm, r.scan_cells->max_cell_deg);
-  if (!r.config.truth.empty())
+        r.scan_cells->max_points_per_cell, r.scan_cells->max_cell_mm, r.scan_cells->max_cell_deg);
+  if (!r.settings.truth.empty())
     h += fmt::format("<p class=\"meta\">Simulated sample: stated truth from {} (red marks, truth columns).</p>\n",
-                     E(r.config.truth));
+                     E(r.settings.truth));
 
   h += "<h2 id=\"summary\">Summary</h2>\n<ul>\n";
   int identified = 0;
@@ -300,25 +299,25 @@ std::string RenderReportHtml(const RunResult& r) {
                    F(id.rms_before_um, 3), F(id.rms_after_um, 3), id.num_observations, id.num_groups);
   h += fmt::format("<li>{} GD&amp;T characteristics, {} fitted features (datum frame from the measured "
                    "features).</li>\n</ul>\n",
-                   r.stage.inspection.characteristics.size(), r.stage.inspection.features.size());
+                   (*r.inspection).characteristics.size(), (*r.inspection).features.size());
 
   h += "<h2 id=\"identification\">Identified machine errors</h2>\n";
-  for (const auto& f : r.figures)
+  for (const auto& f : *r.figures)
     if (f.name == "machine_errors") h += FigureHtml(f);
   h += IdentificationTable(r);
 
   h += "<h2 id=\"identifiability\">Identifiability</h2>\n";
   h += IdentifiabilityTable(r);
 
-  if (r.config.diagnose) h += DiagnosisSection(r);
+  if (r.settings.diagnose) h += DiagnosisSection(r);
 
   h += "<h2 id=\"gdt\">GD&amp;T of the test piece</h2>\n";
-  h += GdtTable(r.stage.inspection);
-  for (const auto& f : r.figures)
+  h += GdtTable((*r.inspection));
+  for (const auto& f : *r.figures)
     if (f.name != "machine_errors" && f.name != "gap") h += FigureHtml(f);
 
   h += "<h2 id=\"config\">Effective configuration</h2>\n";
-  h += fmt::format("<pre>{}</pre>\n", E(FormatPipelineConfig(r.config)));
+  h += fmt::format("<pre>{}</pre>\n", E(r.settings.yaml));
   h += "</body>\n</html>\n";
   return h;
 }

@@ -13,13 +13,13 @@
 
 #include <string>
 
-#include "pipeline/run_stage.h"
+#include "pipeline/report/run_report.h"
 
 namespace tpcal::pipeline {
 
 // The title the self-check script sets when the page is sound, for `figures` figures.
 std::string ReportOkTitle(std::size_t figures);
 
-std::string RenderReportHtml(const RunResult& result);
+std::string RenderReportHtml(const RunReport& report);
 
 }  // namespace tpcal::pipeline
