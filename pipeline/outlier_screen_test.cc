@@ -16,6 +16,7 @@
 #include <set>
 
 #include "core/frames.h"
+#include "core/portable_random.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identify_stage.h"
 #include "pipeline/testing/turning_fixture.h"
@@ -156,6 +157,52 @@ TEST(OutlierScreen, BurrOfThreeHitsIsALocalDefect) {
   }
   std::printf("local_defect named in %d of %zu\n", named, results.size());
   EXPECT_GE(named, 9);
+}
+
+// The feature of a random point with at least 16 points, its points nearest that point first.
+std::vector<std::size_t> NearestOnALargeFeature(const PointSet& p, std::mt19937_64& rng) {
+  std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
+  std::size_t c = pick(rng);
+  while (p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]).size() < 16) c = pick(rng);
+  std::vector<std::size_t> same = p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]);
+  std::sort(same.begin(), same.end(), [&](std::size_t a, std::size_t b) {
+    return (p.xyz_mm[a] - p.xyz_mm[c]).norm() < (p.xyz_mm[b] - p.xyz_mm[c]).norm();
+  });
+  return same;
+}
+
+// The screen alone on 400 hits 1 mm apart along one feature, normal noise (seed 186), the model a
+// constant; in units of the screen's sigma: a burr of two hits tapering off, 5 and 2.85 (the
+// second below grow_z = 3 sigma, as a 2-hit burr at 5x noise often is), and a gross outlier of
+// 15 beside a hit of 2.85.
+// Truth: the burr is one local defect of both hits; the outlier is flagged alone (its neighbour
+// is below half of it). Without the taper rule (join_floor_z = grow_z) the burr is missed
+// entirely: 5 is no outlier, since its neighbour at 2.85 pulls their median up.
+TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
+  std::mt19937_64 rng(186);
+  const int n = 400;
+  std::vector<kinematics::Observation> obs(n);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
+    y(i) = StandardNormal(rng);
+  }
+  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(n, 1);
+  const double sigma = ScreenOutliers(X, y, obs, {}).sigma_um;  // the screen's own noise estimate
+  y(40) = 5.0 * sigma, y(41) = 2.85 * sigma, y(10) = 15.0 * sigma, y(11) = 2.85 * sigma;
+  const OutlierScreen with_taper = ScreenOutliers(X, y, obs, {});
+  ASSERT_NEAR(with_taper.sigma_um, sigma, 0.03 * sigma);  // so that 2.85 stays between 2.5 and 3 sigma
+  ASSERT_EQ(with_taper.patches.size(), 1u);
+  EXPECT_EQ(with_taper.patches.front().members, (std::vector<int>{40, 41}));
+  EXPECT_EQ(with_taper.CountFlagged(), 3);
+  EXPECT_EQ(with_taper.flag[10], ScreenFlag::kOutlier);
+  EXPECT_EQ(with_taper.flag[11], ScreenFlag::kKept);
+  OutlierScreenOptions no_taper;
+  no_taper.join_floor_z = no_taper.grow_z;
+  const OutlierScreen without = ScreenOutliers(X, y, obs, no_taper);
+  EXPECT_TRUE(without.patches.empty());
+  EXPECT_EQ(without.flag[40], ScreenFlag::kKept);
+  EXPECT_EQ(without.flag[10], ScreenFlag::kOutlier);
 }
 
 TEST(OutlierScreen, SevenLobesAreNotNone) {

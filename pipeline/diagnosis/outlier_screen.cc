@@ -59,7 +59,7 @@ void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector
 }
 
 // Connected components (same sign as their seed, through the symmetric neighbour graph) of the
-// points with seed(i), grown through the points with join(i).
+// points with seed(i), grown from a member a through the points b with join(b, a).
 template <typename Seed, typename Join>
 std::vector<std::vector<int>> Components(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& adj, Seed seed,
                                          Join join) {
@@ -75,7 +75,7 @@ std::vector<std::vector<int>> Components(const Eigen::VectorXd& r, const std::ve
       todo.pop_front();
       comp.push_back(a);
       for (int b : adj[static_cast<std::size_t>(a)])
-        if (!seen[static_cast<std::size_t>(b)] && r(b) * r(i) > 0 && join(b)) {
+        if (!seen[static_cast<std::size_t>(b)] && r(b) * r(i) > 0 && join(b, a)) {
           seen[static_cast<std::size_t>(b)] = true;
           todo.push_back(b);
         }
@@ -130,11 +130,14 @@ bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<i
 // The faults among the points not yet flagged, from this round's residuals.
 std::vector<std::vector<int>> NewFaults(const ScreenContext& c, const OutlierScreen& s, const std::vector<bool>& flagged) {
   const Eigen::VectorXd& r = s.residual_um;
-  auto free_beyond = [&](double z) {
-    return [&, z](int i) { return !flagged[static_cast<std::size_t>(i)] && std::abs(r(i)) > z * s.sigma_um; };
+  auto seeds = [&](int i) { return !flagged[static_cast<std::size_t>(i)] && std::abs(r(i)) > c.o.grow_z * s.sigma_um; };
+  const double floor_um = c.o.join_floor_z * s.sigma_um;
+  auto joins = [&](int b, int a) {
+    const double rb = std::abs(r(b));
+    return seeds(b) || (!flagged[static_cast<std::size_t>(b)] && rb > floor_um && rb >= c.o.join_ratio * std::abs(r(a)));
   };
   std::vector<std::vector<int>> out;
-  for (auto& comp : Components(r, c.adj, free_beyond(c.o.grow_z), free_beyond(c.o.grow_z)))
+  for (auto& comp : Components(r, c.adj, seeds, joins))
     if (IsFault(c, s, comp)) out.push_back(std::move(comp));
   return out;
 }
@@ -152,7 +155,7 @@ bool FinalFlags(const ScreenContext& c, const std::vector<bool>& flagged, Outlie
   const Eigen::VectorXd& r = s->residual_um;
   auto is_flagged = [&](int i) { return static_cast<bool>(flagged[static_cast<std::size_t>(i)]); };
   std::map<int, std::vector<std::vector<int>>> by_group;
-  for (auto& comp : Components(r, c.adj, is_flagged, is_flagged))
+  for (auto& comp : Components(r, c.adj, is_flagged, [&](int b, int) { return is_flagged(b); }))
     by_group[c.obs[static_cast<std::size_t>(comp.front())].group].push_back(std::move(comp));
   s->flag.assign(c.obs.size(), ScreenFlag::kKept);
   s->patches.clear();
@@ -178,6 +181,8 @@ bool FinalFlags(const ScreenContext& c, const std::vector<bool>& flagged, Outlie
 Status OutlierScreenOptions::Validate() const {
   if (!(seed_z > 0 && grow_z > 0 && grow_z <= seed_z))
     return {StatusCode::kInvalidArgument, "outlier screen: need 0 < grow_z <= seed_z"};
+  if (!(join_floor_z > 0 && join_floor_z <= grow_z && join_ratio > 0 && join_ratio <= 1))
+    return {StatusCode::kInvalidArgument, "outlier screen: need 0 < join_floor_z <= grow_z and 0 < join_ratio <= 1"};
   if (!(min_sigma_um >= 0)) return {StatusCode::kInvalidArgument, "outlier screen: need min_sigma_um >= 0"};
   if (neighbours < 1 || max_patch_points < 2) return {StatusCode::kInvalidArgument, "outlier screen: need neighbours >= 1 and max_patch_points >= 2"};
   if (!(max_patch_share > 0 && max_patch_share <= 1 && max_components_share >= 0))

@@ -10,7 +10,8 @@
 // sigma = 1.4826 median |d_i| / sqrt(1 + v_k), v_k the variance of that median in units of
 // sigma^2 (0.298 for k = 4). A smooth effect the model lacks hardly enters d, so sigma stays the
 // CMM's noise when the model is incomplete (DiagnosisResult::neighbour_sigma_um).
-// Faults: components of same-sign neighbours beyond grow_z sigma. One point is an outlier when
+// Faults: components of same-sign neighbours beyond grow_z sigma (or beyond join_floor_z sigma
+// and at least join_ratio of the member they touch: a tapering patch). One point is an outlier when
 // |r_i| and its departure from its neighbours |d_i| / sqrt(1 + v_k) both exceed seed_z sigma;
 // 2 to max_patch_points points holding at most max_patch_share of their feature are a local
 // defect when |sum r| / sqrt(m) exceeds seed_z sigma; larger components are systematic and stay
@@ -38,6 +39,11 @@ namespace tpcal::pipeline {
 struct OutlierScreenOptions {
   double seed_z = 4.5;              // |r| / sigma above which a point starts a flagged component
   double grow_z = 3.0;              // |r| / sigma for a neighbour to join it (same sign)
+  // A neighbour down to join_floor_z sigma also joins when it is at least join_ratio of the member
+  // it touches: a patch tapering off (a 2-hit burr at 5x noise has its second hit near 3.5 sigma),
+  // while a clean neighbour of a gross outlier (>= 10x) is far below half of it.
+  double join_floor_z = 2.5;
+  double join_ratio = 0.5;
   int neighbours = 4;               // k of the neighbour comparison
   int max_patch_points = 12;        // a larger component is systematic
   double max_patch_share = 0.25;    // of its feature's points
