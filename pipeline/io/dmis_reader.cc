@@ -146,7 +146,7 @@ Status PointActual(const std::vector<std::string_view>& fields, const std::strin
                              DmisEcho(modes.wkplan)));
   if (modes.angle == AngleUnit::kDms)
     return error(fmt::format("FA({}): a polar angle in UNITS ANGDMS: expected ANGDEC or ANGRAD", label));
-  const double a_rad = modes.angle == AngleUnit::kDegree ? v[1] * (M_PI / 180.0) : v[1];
+  const double a_rad = modes.angle == AngleUnit::kDegree ? DegToRad(v[1]) : v[1];
   const int u = modes.first_axis;
   xyz[u] = v[0] * std::cos(a_rad);
   xyz[(u + 1) % 3] = v[0] * std::sin(a_rad);
