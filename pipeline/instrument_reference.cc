@@ -54,6 +54,7 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     out.map_entries = file->map_entries;
     out.not_identifiable = file->not_identifiable;
     out.not_separable = file->not_separable;
+    out.map_u = file->map_u;
     TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, out, path));
     TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, file->errors_yaml, path + " (its errors_yaml)", &out));
     return out;
@@ -76,6 +77,8 @@ Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const Ins
   out.machine_type = report->machine;
   out.map_entries = static_cast<int>(report->result.maps.entries.size());
   out.not_identifiable = report->result.maps.not_identifiable;
+  for (const auto& e : report->result.maps.entries)
+    if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
   TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
   return out;
 }
@@ -95,6 +98,8 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
   out.machine_type = report->machine;
   for (const BallbarAxisReport& a : report->axes) {
     out.map_entries += static_cast<int>(a.result.entries.size());
+    for (const auto& e : a.result.entries)
+      if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
     for (const std::string& n : a.result.not_identifiable) out.not_identifiable.push_back(n);
     for (const std::string& f : a.result.not_separable) out.not_separable.push_back(a.axis + ": " + f);
   }
@@ -224,15 +229,42 @@ DiagnosisOptions IrDiagnosisOptions(const DiagnosisOptions& options, const Instr
 }
 
 // "the instrument's error maps (600 node values; 4 not identifiable by its plan, taken as 0: ...)
-// as measured; no parameter in common with the piece's model: compared by simulation only".
-std::string MapsNote(const InstrumentReference& ref) {
+// as measured (...); no parameter in common with the piece's model: compared by simulation only".
+std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
   std::string note = fmt::format("the instrument's error maps ({} node values", ref.map_entries);
   if (!ref.not_identifiable.empty())
     note += fmt::format("; {} not identifiable by its plan, taken as 0: {}", ref.not_identifiable.size(),
                         fmt::join(ref.not_identifiable, ", "));
   if (!ref.not_separable.empty())
     note += fmt::format("; no component along what its installations cannot separate: {}", fmt::join(ref.not_separable, "; "));
-  return note + ") as measured; no parameter in common with the piece's model: compared by simulation only";
+  return note + ") " + how + "; no parameter in common with the piece's model: compared by simulation only";
+}
+
+// The maps updated by the piece within their u when the piece agrees with them (conflict p >=
+// alpha), as measured otherwise; `how` says which, with the test.
+Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const InstrumentReference& ref,
+                                               const IdentifyStageResult& piece, const DiagnosisOptions& options,
+                                               std::string* how) {
+  *how = "as measured (their u unknown)";
+  if (ref.map_u.empty()) return *ref.maps;
+  std::vector<std::string> names;
+  std::vector<double> u;
+  for (const auto& [name, u_k] : ref.map_u) names.push_back(name), u.push_back(u_k);
+  auto active = kinematics::SelectCoefficients(*ref.maps, names);
+  if (!active.ok()) return active.status();
+  const double sigma_um = options.noise_um > 0.0                ? options.noise_um
+                          : piece.neighbour_sigma_um > 0.0      ? piece.neighbour_sigma_um
+                                                                : std::max(piece.identification.sigma_um, 1e-3);
+  auto up = kinematics::UpdateWithinPrior(setup.machine, *ref.maps, *active, u, piece.observations.observations, sigma_um);
+  if (!up.ok()) return up.status();
+  const std::string test = fmt::format("chi2 {:.0f} on {} at noise {:.2f} um, p = {:.2g}", up->conflict_chi2,
+                                       up->conflict_dof, sigma_um, up->conflict_p);
+  if (up->conflict_p < options.alpha) {
+    *how = "as measured (the piece departs from them beyond their u and its noise: " + test + ")";
+    return *ref.maps;
+  }
+  *how = "updated by the piece within their u (the piece agrees with them: " + test + ")";
+  return up->posterior;
 }
 
 // The piece's own outlier screen flags what its model lacks and the maps may hold (an error
@@ -246,13 +278,16 @@ Result<DiagnosisResult> IrAgainstMaps(const LoadedPiece& setup, const PointSet& 
   auto piece = IrPiece(setup, measured, {}, ref.source, keep_all, unscreened ? identified : nullptr);
   if (!piece.ok()) return piece.status();
   piece->outliers.clear(), piece->local_defects.clear();
-  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, IrDiagnosisOptions(options, ref, *ref.maps));
+  std::string how;
+  auto maps = MapsForThePiece(setup, ref, *piece, options, &how);
+  if (!maps.ok()) return maps.status();
+  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, IrDiagnosisOptions(options, ref, std::move(*maps)));
   if (!d.ok()) return d.status();
   ReferenceAgreement agreement;
   agreement.alpha = options.alpha, agreement.p_threshold = options.alpha;
   agreement.instrument = ref.instrument;
   agreement.source = ref.source;
-  agreement.reference_note = MapsNote(ref);
+  agreement.reference_note = MapsNote(ref, how);
   d->reference_agreement = std::move(agreement);
   return d;
 }

@@ -9,10 +9,11 @@
 //  * probe_artifacts (seed 000) or ballbar (seed 003): error maps of the rotary axes (error
 //    motions at the measured angles, tables), which no parameter of the piece's model names. The
 //    "sim" is the instrument's tpcal.errors/1 (what `identify --errors-out` writes: the maps,
-//    entries the instrument cannot determine at 0) on the piece's machine, as measured: their
-//    noise is not weighed (the piece's lever arms amplify it; an update within the maps' u, as
-//    for the datum ball, would absorb a withheld drift into the hundreds of node values: README),
-//    so the instrument must be tight. The piece is identified with its own parameters and every point
+//    entries the instrument cannot determine at 0) on the piece's machine. When the piece agrees
+//    with the maps within their u and its noise (kinematics::PriorUpdate's conflict test at
+//    alpha), the maps are updated by the piece within their u, so a noisy instrument raises no
+//    alarm; when it does not, they are taken as measured (an update would absorb the departure,
+//    e.g. a withheld drift, into the hundreds of node values). The piece is identified with its own parameters and every point
 //    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
 //    against the maps. No parameter is compared (the table says so and names what the instrument
 //    left undetermined): the two meet through the simulated piece only.
@@ -22,6 +23,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/point_set.h"
@@ -57,6 +59,9 @@ struct InstrumentReference {
   // Error maps (probe_artifacts, ballbar): the instrument's errors as measured; `parameters` empty.
   std::optional<kinematics::ErrorState> maps;
   int map_entries = 0;                       // node values the instrument reports
+  // Their standard uncertainties (display units, k = 1) by ErrorState coefficient name, for the
+  // entries the instrument determined; empty when unknown (a .json reference).
+  std::vector<std::pair<std::string, double>> map_u;
   std::vector<std::string> not_identifiable;  // map entries it cannot determine (written as 0)
   std::vector<std::string> not_separable;     // ballbar: families the maps carry no component of
 };

@@ -82,16 +82,33 @@ std::vector<std::string> StringsOf(const json& j, const char* key, const std::st
   return out;
 }
 
+// The u of each map entry that has one: {"coefficient": "E_XC.n3", "u": 0.12, ...}.
+void ReadMapU(const json& entries, IdentificationFile* out) {
+  for (const json& e : entries) {
+    if (!e.is_object() || !e.contains("coefficient") || !e["coefficient"].is_string() || !e.contains("u") ||
+        !e["u"].is_number())
+      continue;
+    const double u = e["u"].get<double>();
+    if (std::isfinite(u) && u > 0.0) out->map_u.emplace_back(e["coefficient"].get<std::string>(), u);
+  }
+}
+
 // The error-map fields of a probe_artifacts ("maps", "not_identifiable") or ballbar ("axes[]":
 // "errors", "not_identifiable", "not_separable") file; the maps themselves are in "errors_yaml".
 void ReadMapFields(const json& doc, IdentificationFile* out) {
   out->errors_yaml = doc["errors_yaml"].get<std::string>();
-  if (doc.contains("maps") && doc["maps"].is_array()) out->map_entries = static_cast<int>(doc["maps"].size());
+  if (doc.contains("maps") && doc["maps"].is_array()) {
+    out->map_entries = static_cast<int>(doc["maps"].size());
+    ReadMapU(doc["maps"], out);
+  }
   out->not_identifiable = StringsOf(doc, "not_identifiable");
   if (!doc.contains("axes") || !doc["axes"].is_array()) return;
   for (const json& a : doc["axes"]) {
     if (!a.is_object()) continue;
-    if (a.contains("errors") && a["errors"].is_array()) out->map_entries += static_cast<int>(a["errors"].size());
+    if (a.contains("errors") && a["errors"].is_array()) {
+      out->map_entries += static_cast<int>(a["errors"].size());
+      ReadMapU(a["errors"], out);
+    }
     for (auto& n : StringsOf(a, "not_identifiable")) out->not_identifiable.push_back(std::move(n));
     const std::string axis = StringOr(a, "axis");
     for (auto& f : StringsOf(a, "not_separable", axis + ": ")) out->not_separable.push_back(std::move(f));

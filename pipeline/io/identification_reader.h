@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -29,6 +30,8 @@ struct IdentificationFile {
   std::string errors_yaml;
   int map_entries = 0;
   std::vector<std::string> not_identifiable, not_separable;
+  // The entries' standard uncertainties by coefficient ("coefficient", "u" > 0; display units).
+  std::vector<std::pair<std::string, double>> map_u;
 };
 
 // Errors (kParseError naming `source`): not JSON (with the line of the fault), a schema other
