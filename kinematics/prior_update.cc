@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace tpcal::kinematics {
@@ -74,7 +75,8 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
   for (Eigen::Index k : seen) free_seen += known(k) > 0.0 ? 0 : 1;
   const auto alignment_rank = static_cast<int>(Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(lin->J_dev_alignment).rank());
   out.conflict_dof = static_cast<int>(y.size()) - alignment_rank - free_seen;
-  if (out.conflict_dof > 0)
+  out.conflict_p = std::numeric_limits<double>::quiet_NaN();
+  if (out.conflict_dof > 0 && std::isfinite(out.conflict_chi2))
     out.conflict_p = boost::math::cdf(boost::math::complement(boost::math::chi_squared(out.conflict_dof),
                                                               std::max(0.0, out.conflict_chi2)));
   for (int k = 0; k < active.size(); ++k) {

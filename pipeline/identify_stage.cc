@@ -74,6 +74,7 @@ struct ScreenListing {
   std::vector<ScreenedPoint> outliers;
   std::vector<LocalDefect> local_defects;
   double neighbour_sigma_um = 0.0;
+  double neighbour_sigma_dof = 0.0;
 };
 
 void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measured, testpieces::MeasuredObservations* obs,
@@ -87,6 +88,7 @@ void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measur
   const OutlierScreen screen = ScreenOutliers(X, lin.measured_dev_um - lin.predicted_dev_um, obs->observations, options.screen);
   const bool left_out = options.screen_outliers && screen.CountFlagged() > 0;
   out->neighbour_sigma_um = screen.sigma_um;
+  out->neighbour_sigma_dof = screen.sigma_dof;
   ListFlagged(screen, *obs, left_out, &out->outliers, &out->local_defects);
   AttachScreenLines(measured, &out->outliers, &out->local_defects);
   if (!left_out) return;
@@ -202,7 +204,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                              std::move(parameters),        std::move(*id),
                              obs->scan_cells,              std::move(slot_design),
                              std::move(screened.outliers), std::move(screened.local_defects),
-                             screened.neighbour_sigma_um};
+                             screened.neighbour_sigma_um,  screened.neighbour_sigma_dof};
 }
 
 }  // namespace tpcal::pipeline

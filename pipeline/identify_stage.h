@@ -56,6 +56,7 @@ struct IdentifyStageResult {
   std::vector<ScreenedPoint> outliers;
   std::vector<LocalDefect> local_defects;
   double neighbour_sigma_um = 0.0;
+  double neighbour_sigma_dof = 0.0;  // its effective degrees of freedom (OutlierScreen::sigma_dof)
 };
 
 // The identification options of `tpcal identify --uncertainty CHOICE`: jackknife (delete one point,

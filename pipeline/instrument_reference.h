@@ -11,9 +11,12 @@
 //    "sim" is the instrument's tpcal.errors/1 (what `identify --errors-out` writes: the maps,
 //    entries the instrument cannot determine at 0) on the piece's machine. When the piece agrees
 //    with the maps within their u and its noise (kinematics::PriorUpdate's conflict test at
-//    alpha), the maps are updated by the piece within their u, so a noisy instrument raises no
+//    alpha, over the points the piece's own screen kept; u per node, their correlations not
+//    used), the maps are updated by the piece within their u, so a noisy instrument raises no
 //    alarm; when it does not, they are taken as measured (an update would absorb the departure,
-//    e.g. a withheld drift, into the hundreds of node values). The piece is identified with its own parameters and every point
+//    e.g. a withheld drift, into the hundreds of node values). The test is global: an effect
+//    must stand out over hundreds of degrees of freedom to keep the maps as measured, so a small
+//    one on top of noisy maps may be updated away (README: a 3 um drift on 1 um maps). The piece is identified with its own parameters and every point
 //    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
 //    against the maps. No parameter is compared (the table says so and names what the instrument
 //    left undetermined): the two meet through the simulated piece only.

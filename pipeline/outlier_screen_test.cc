@@ -159,18 +159,6 @@ TEST(OutlierScreen, BurrOfThreeHitsIsALocalDefect) {
   EXPECT_GE(named, 9);
 }
 
-// The feature of a random point with at least 16 points, its points nearest that point first.
-std::vector<std::size_t> NearestOnALargeFeature(const PointSet& p, std::mt19937_64& rng) {
-  std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
-  std::size_t c = pick(rng);
-  while (p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]).size() < 16) c = pick(rng);
-  std::vector<std::size_t> same = p.IndicesOf(p.feature_names[static_cast<std::size_t>(p.feature[c])]);
-  std::sort(same.begin(), same.end(), [&](std::size_t a, std::size_t b) {
-    return (p.xyz_mm[a] - p.xyz_mm[c]).norm() < (p.xyz_mm[b] - p.xyz_mm[c]).norm();
-  });
-  return same;
-}
-
 // The screen alone on 400 hits 1 mm apart along one feature, normal noise (seed 186), the model a
 // constant; in units of the screen's sigma: a burr of two hits tapering off, 5 and 2.85 (the
 // second below grow_z = 3 sigma, as a 2-hit burr at 5x noise often is), and a gross outlier of

@@ -29,6 +29,7 @@ struct RunFile {
 
 // What result.json and report.html show of `result` (pointing into it: keep `result` alive).
 RunReport ReportOf(const RunResult& result);
+RunReport ReportOf(RunResult&& result) = delete;  // the view would point into a temporary
 
 // All files of a run, rendered in memory (deterministic: same result, same bytes).
 std::vector<RunFile> RenderRunFiles(const RunResult& result);

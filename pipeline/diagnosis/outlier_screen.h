@@ -21,7 +21,8 @@
 // outliers and patches, and a feature with more groups than max(2, max_components_share x its
 // points) keeps all its points (an effect of short wavelength, not isolated faults).
 // Thresholds: at seed_z = 4.5 a clean point is flagged with probability 7e-6, a clean pair of
-// neighbours about 1e-6; a 10x-noise outlier is found unless its neighbours are themselves off.
+// neighbours about 3e-6 (one of them may lie down to join_floor_z); a 10x-noise outlier is found
+// unless its neighbours are themselves off.
 #pragma once
 
 #include <Eigen/Core>
