@@ -14,7 +14,7 @@
 namespace tpcal::pipeline {
 namespace {
 
-constexpr const char* kCss = R"(body{font-family:sans-serif;margin:24px auto;max-width:1100px;color:#222;line-height:1.35}
+constexpr const char* kReportCss = R"(body{font-family:sans-serif;margin:24px auto;max-width:1100px;color:#222;line-height:1.35}
 h1{font-size:22px;margin-bottom:4px}h2{font-size:18px;border-bottom:1px solid #ccc;padding-bottom:3px;margin-top:28px}
 table{border-collapse:collapse;margin:8px 0 16px 0;font-size:13px}
 th,td{border:1px solid #ccc;padding:3px 7px;text-align:right;vertical-align:top}
@@ -270,7 +270,7 @@ std::string RenderReportHtml(const RunReport& r) {
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<title>tpcal report: NOT CHECKED</title>\n";
-  h += fmt::format("<style>{}</style>\n", kCss);
+  h += fmt::format("<style>{}</style>\n", kReportCss);
   h += kScript;
   h += "</head>\n";
   h += fmt::format("<body data-figures=\"{}\">\n", r.figures->size());
