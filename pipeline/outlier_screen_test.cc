@@ -19,6 +19,7 @@
 #include "core/portable_random.h"
 #include "pipeline/diagnosis/diagnosis.h"
 #include "pipeline/identify_stage.h"
+#include "pipeline/io/point_io.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/simulate_piece.h"
 
@@ -191,6 +192,25 @@ TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
   EXPECT_TRUE(without.patches.empty());
   EXPECT_EQ(without.flag[40], ScreenFlag::kKept);
   EXPECT_EQ(without.flag[10], ScreenFlag::kOutlier);
+}
+
+// A validation trial's piece (tests/data/points/dent_on_h2_sextic_verdict.csv: 0.5 um noise, a
+// dent of 2 hits on H2 at 5 and 3.5 sigma) whose first verdict is the sextic straightness: the
+// second screen's model then holds that candidate's raw monomials x^2..x^6 (column norms 1e4 to
+// 1e16). Truth: the noise sigma stays near 0.5 um (a MAD of 352 draws: within 0.1 um), the dent
+// is one local defect of 2 points on H2, nothing else is flagged. A pivoted QR of the scaled
+// columns kept directions near 1e-9 of the largest and returned residuals of 1e5 |y|: sigma
+// 668 um and 34 points in 7 false patches.
+TEST(OutlierScreen, RawPolynomialColumnsDoNotBreakTheSecondScreen) {
+  auto points = ReadPoints(std::string(TPCAL_SOURCE_DIR) + "/tests/data/points/dent_on_h2_sextic_verdict.csv");
+  ASSERT_TRUE(points.ok()) << points.status().ToString();
+  auto d = Diagnose(Turning(), AcTable(), *points);
+  ASSERT_TRUE(d.ok()) << d.status().ToString();
+  EXPECT_NEAR(d->neighbour_sigma_um, 0.5, 0.1);
+  ASSERT_EQ(d->local_defects.size(), 1u);
+  EXPECT_EQ(d->local_defects.front().feature, "H2");
+  EXPECT_EQ(d->local_defects.front().n_points, 2);
+  EXPECT_EQ(d->outliers.size(), 2u);
 }
 
 TEST(OutlierScreen, SevenLobesAreNotNone) {

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "core/median.h"
+#include "core/tall_svd.h"
 #include "pipeline/diagnosis/feature_neighbours.h"
 
 namespace tpcal::pipeline {
@@ -21,24 +22,37 @@ double MedianVariance(std::size_t k) {
   return k <= 4 ? v[k] : 3.14159265358979 / (2.0 * static_cast<double>(k));
 }
 
-// Residuals at every row of the least-squares fit of y on X over the rows with keep[i].
-Eigen::VectorXd TrimmedResiduals(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<bool>& keep) {
-  Eigen::VectorXd norms = X.colwise().norm().transpose();
+// An orthonormal basis of the columns of X scaled to unit norm (singular values at most 1e-9 of
+// the largest dropped). Raw polynomial columns (a sextic straightness candidate) span 15 orders of
+// magnitude; a pivoted QR of them kept directions at 1e-9 of the largest and returned residuals
+// 1e5 times |y|.
+Eigen::MatrixXd OrthonormalColumns(const Eigen::MatrixXd& X) {
+  if (X.cols() == 0) return X;
+  const Eigen::VectorXd norms = X.colwise().norm().transpose();
   Eigen::MatrixXd Xs = X;
   for (Eigen::Index c = 0; c < X.cols(); ++c) Xs.col(c) = norms(c) > 0 ? Eigen::VectorXd(X.col(c) / norms(c)) : Eigen::VectorXd::Zero(X.rows());
+  TallSvdResult svd = TallSvd(Xs, /*compute_u=*/true);
+  Eigen::Index rank = 0;
+  while (rank < svd.sigma.size() && svd.sigma(rank) > 1e-9 * svd.sigma(0)) ++rank;
+  return svd.U.leftCols(rank);
+}
+
+// Residuals at every row of the least-squares fit of y on Q (orthonormal columns) over the rows
+// with keep[i].
+Eigen::VectorXd TrimmedResiduals(const Eigen::MatrixXd& Q, const Eigen::VectorXd& y, const std::vector<bool>& keep) {
   std::vector<Eigen::Index> rows;
   for (std::size_t i = 0; i < keep.size(); ++i)
     if (keep[i]) rows.push_back(static_cast<Eigen::Index>(i));
-  if (X.cols() == 0 || static_cast<Eigen::Index>(rows.size()) <= X.cols()) return y;
-  Eigen::MatrixXd A(static_cast<Eigen::Index>(rows.size()), X.cols());
+  if (Q.cols() == 0 || static_cast<Eigen::Index>(rows.size()) <= Q.cols()) return y;
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(rows.size()), Q.cols());
   Eigen::VectorXd b(A.rows());
   for (Eigen::Index k = 0; k < A.rows(); ++k) {
-    A.row(k) = Xs.row(rows[static_cast<std::size_t>(k)]);
+    A.row(k) = Q.row(rows[static_cast<std::size_t>(k)]);
     b(k) = y(rows[static_cast<std::size_t>(k)]);
   }
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
   cod.setThreshold(1e-9);
-  return y - Xs * cod.solve(b);
+  return y - Q * cod.solve(b);
 }
 
 // d_i = r_i - median of its neighbours' r; sigma from the MAD of d_i / sqrt(1 + v_k).
@@ -213,12 +227,13 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   for (const auto& o : observations) ++c.group_size[o.group];
   // Worst first: each round flags the faults within a factor 2 of the largest, then refits, so
   // that the pull of a gross outlier on the fit is gone before its neighbours are judged.
+  const Eigen::MatrixXd Q = OrthonormalColumns(X);
   OutlierScreen s;
   std::vector<bool> flagged(observations.size(), false);
   for (s.rounds = 1;; ++s.rounds) {
     std::vector<bool> keep(flagged.size());
     for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
-    s.residual_um = TrimmedResiduals(X, y, keep);
+    s.residual_um = TrimmedResiduals(Q, y, keep);
     NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
     if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
     const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
@@ -234,7 +249,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
     for (std::size_t i = 0; i < flagged.size(); ++i) flagged[i] = s.flag[i] != ScreenFlag::kKept;
     std::vector<bool> keep(flagged.size());
     for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
-    s.residual_um = TrimmedResiduals(X, y, keep);
+    s.residual_um = TrimmedResiduals(Q, y, keep);
     NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
   }
   return s;
