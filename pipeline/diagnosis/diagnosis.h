@@ -152,8 +152,9 @@ struct HarmonicGap {
   std::string feature;
   int order = 0;
   double amplitude_um = 0.0, phase_deg = 0.0;
-  double z = 0.0;            // amplitude / its noise standard deviation sigma sqrt(2 / n)
+  double z = 0.0;            // sqrt(energy_um2) / sigma: amplitude / sigma sqrt(2 / n) on n equally spaced points
   bool stands_out = false;   // z > stand_out_z
+  double energy_um2 = 0.0;   // the gap's sum of squares along this order given the others (n A^2 / 2 equally spaced)
 };
 
 struct EffectParameter {

@@ -123,8 +123,12 @@ bool IsCircularProfile(const std::vector<Eigen::Index>& idx, const std::vector<k
   return mean > 0 && hi - lo <= kCircularRadiusSpread * mean;
 }
 
-// Harmonics 1..kmax of the gap around one circular profile (azimuth about its centroid, part Z),
-// appended to *all.
+// Harmonics 1..kmax of the gap around one circular profile (azimuth phi about its centroid, part
+// Z): least squares on [1, cos k phi, sin k phi], so that a profile with points left out (a local
+// defect, a skipped hit) keeps its orders and its mean apart; a DFT's sums assume equally spaced
+// points. energy = (a, b) C^-1 (a, b)^T with C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s:
+// on equally spaced points m A^2 / 2 and A / (s sqrt(2 / m)), the DFT's. Appended to *all; nothing
+// when the design is singular (fewer distinct azimuths than columns).
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
                       const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0, double s,
                       int max_harmonic, std::vector<HarmonicGap>* all) {
@@ -133,29 +137,39 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
   c /= static_cast<double>(idx.size());
   if (!IsCircularProfile(idx, obs, c)) return;
   const int kmax = std::min<int>(max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
-  // One pass: cos(k phi) + i sin(k phi) = w^k with w = e^{i phi} (azimuth phi of the point).
-  std::vector<std::complex<double>> sum(static_cast<std::size_t>(std::max(kmax, 0)) + 1, 0.0);
-  for (auto i : idx) {
+  if (kmax < 1) return;
+  const auto m = static_cast<Eigen::Index>(idx.size());
+  Eigen::MatrixXd X(m, 1 + 2 * kmax);
+  Eigen::VectorXd y(m);
+  for (Eigen::Index row = 0; row < m; ++row) {
+    const auto i = idx[static_cast<std::size_t>(row)];
     const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
     const double rho = std::hypot(d.x(), d.y());
+    // cos(k phi) + i sin(k phi) = w^k with w = e^{i phi}
     const std::complex<double> w = rho > 0 ? std::complex<double>(d.x() / rho, d.y() / rho) : 1.0;
     std::complex<double> wk = 1.0;
+    X(row, 0) = 1.0;
     for (int k = 1; k <= kmax; ++k) {
       wk *= w;
-      sum[static_cast<std::size_t>(k)] += r0(i) * wk;
+      X(row, 2 * k - 1) = wk.real(), X(row, 2 * k) = wk.imag();
     }
+    y(row) = r0(i);
   }
+  const Eigen::LDLT<Eigen::MatrixXd> normal(X.transpose() * X);
+  const Eigen::VectorXd diag = normal.vectorD();
+  if (normal.info() != Eigen::Success || diag.minCoeff() <= 1e-9 * diag.maxCoeff()) return;
+  const Eigen::VectorXd coef = normal.solve(X.transpose() * y);
+  const Eigen::MatrixXd cov = normal.solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
   for (int k = 1; k <= kmax; ++k) {
-    const double m = static_cast<double>(idx.size());
-    const double a = sum[static_cast<std::size_t>(k)].real() * 2.0 / m;
-    const double b = sum[static_cast<std::size_t>(k)].imag() * 2.0 / m;
-    HarmonicGap h{name, k, std::hypot(a, b), RadToDeg(std::atan2(b, a)), 0.0, false};
-    h.z = s > 0 ? h.amplitude_um / (s * std::sqrt(2.0 / m)) : 0.0;
+    const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k));
+    const double energy = ab.dot(cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse() * ab);
+    HarmonicGap h{name, k, ab.norm(), RadToDeg(std::atan2(ab.y(), ab.x())), 0.0, false, energy};
+    h.z = s > 0 ? std::sqrt(energy) / s : 0.0;
     all->push_back(h);
   }
 }
 
-// Order k pooled over every circular profile that has it: S_k = sum m_f A_fk^2 / 2 (chi-square
+// Order k pooled over every circular profile that has it: S_k = sum of the profiles' energy_um2 (chi-square
 // with 2 F_k degrees of freedom times sigma^2 under noise) against the profiles' residual sum of
 // squares without it, an F test that needs no noise estimate from elsewhere (an error motion of
 // more lobes than the neighbour spacing resolves inflates every other noise figure). Stands out
@@ -163,17 +177,15 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
 void PooledHarmonics(const std::vector<HarmonicGap>& all, const PointGroups& by_feature, const Eigen::VectorXd& r0,
                      double s, DiagnosisResult* out) {
   double ssr = 0.0, n = 0.0;
-  std::map<std::string, double> m;
   for (const auto& [name, idx] : by_feature)
     if (idx.size() >= 8) {
-      m[name] = static_cast<double>(idx.size());
-      n += m[name];
+      n += static_cast<double>(idx.size());
       for (auto i : idx) ssr += r0(i) * r0(i);
     }
   std::map<int, std::pair<double, int>> energy;  // order -> S_k, F_k
   for (const auto& h : all) {
     auto& e = energy[h.order];
-    e.first += m[h.feature] * h.amplitude_um * h.amplitude_um / 2.0;
+    e.first += h.energy_um2;
     e.second += 1;
   }
   for (const auto& [k, e] : energy) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/QR>
+
 #include <cstdio>
 
 #include <algorithm>
@@ -17,6 +19,7 @@
 #include "kinematics/errors_yaml.h"
 #include "kinematics/slot_linearisation.h"
 #include "pipeline/report/diagnosis_json.h"
+#include "pipeline/diagnosis/diagnosis_gap_summary.h"
 #include "pipeline/diagnosis/diagnosis_validate.h"
 #include "testpieces/point_association.h"
 #include "testpieces/probing_plan.h"
@@ -83,6 +86,33 @@ Result<testpieces::MeasuredObservations> SimulatedObservations(const Fixture& f,
 // "Where it lies": the C harmonics of each circular profile, the groups by operation and by A
 // index, recomputed here from their definitions on the diagnosis's own gap (truth: the
 // definitions; tolerance 1e-9 um: sums of ~50 terms of ~10 um in another order).
+// A circular profile of 16 points every 22.5 deg (radius 100 mm) with the hits at 0 and 180 deg
+// left out (skipped, or outliers) and a gap of exactly +3 um at the 14 points left (a mean offset: a
+// probe radius error), sigma 1 um. Truth: no harmonic (the offset is the profile's mean): every
+// order's amplitude and z are 0 to rounding. A DFT's sums over the 14 points leak the mean into
+// the even orders (amplitude 0.86 um, z 2.3).
+TEST(Diagnosis, ProfileWithPointsLeftOutKeepsItsMeanOutOfTheHarmonics) {
+  const Fixture f = Make();
+  testpieces::MeasuredObservations mo;
+  mo.feature_names = {"S1"};
+  for (int j = 1; j < 16; ++j) {
+    if (j == 8) continue;
+    kinematics::Observation o;
+    const double phi = j * M_PI / 8.0;
+    o.cut.nominal_point_mm = Eigen::Vector3d(100.0 * std::cos(phi), 100.0 * std::sin(phi), 50.0);
+    mo.observations.push_back(o);
+  }
+  const Eigen::VectorXd gap = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(mo.observations.size()), 3.0);
+  DiagnosisResult out;
+  diagnosis_internal::SummariseGap(f.machine, mo, gap, 1.0, DiagnosisOptions{}, &out);
+  ASSERT_FALSE(out.harmonics.empty());
+  for (const auto& h : out.harmonics) {
+    EXPECT_LT(h.amplitude_um, 1e-9) << "order " << h.order;
+    EXPECT_LT(h.z, 1e-9) << "order " << h.order;
+  }
+  for (const auto& where : out.standing_out) EXPECT_EQ(where.find("harmonic"), std::string::npos) << where;
+}
+
 TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine,
@@ -105,15 +135,21 @@ TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (auto i : idx) c += obs[i].cut.nominal_point_mm;
     c /= static_cast<double>(idx.size());
-    double a = 0, b = 0;
-    for (auto i : idx) {
-      const Eigen::Vector3d v = obs[i].cut.nominal_point_mm - c;
+    // Truth: least squares of the gap on [1, cos k phi, sin k phi], k = 1..kmax (the profile's
+    // orders), by Householder QR; on equally spaced azimuths it is the DFT 2/m sum r e^{i k phi}.
+    const int kmax = std::min<int>(DiagnosisOptions{}.max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
+    Eigen::MatrixXd X(static_cast<Eigen::Index>(idx.size()), 1 + 2 * kmax);
+    Eigen::VectorXd y(X.rows());
+    for (std::size_t row = 0; row < idx.size(); ++row) {
+      const Eigen::Vector3d v = obs[idx[row]].cut.nominal_point_mm - c;
       const double phi = std::atan2(v.y(), v.x());
-      a += d->gap_um[i] * std::cos(h.order * phi);
-      b += d->gap_um[i] * std::sin(h.order * phi);
+      const auto r = static_cast<Eigen::Index>(row);
+      X(r, 0) = 1.0;
+      for (int k = 1; k <= kmax; ++k) X(r, 2 * k - 1) = std::cos(k * phi), X(r, 2 * k) = std::sin(k * phi);
+      y(r) = d->gap_um[idx[row]];
     }
-    a *= 2.0 / static_cast<double>(idx.size());
-    b *= 2.0 / static_cast<double>(idx.size());
+    const Eigen::VectorXd coef = X.householderQr().solve(y);
+    const double a = coef(2 * h.order - 1), b = coef(2 * h.order);
     EXPECT_NEAR(h.amplitude_um, std::hypot(a, b), 1e-9) << h.feature << " order " << h.order;
     if (std::hypot(a, b) > 1e-3) {
       EXPECT_NEAR(std::remainder(h.phase_deg - std::atan2(b, a) * 180.0 / M_PI, 360.0), 0.0, 1e-6) << h.feature;
