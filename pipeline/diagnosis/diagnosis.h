@@ -153,7 +153,7 @@ struct HarmonicGap {
   int order = 0;
   double amplitude_um = 0.0, phase_deg = 0.0;
   double z = 0.0;            // sqrt(energy_um2) / sigma: amplitude / sigma sqrt(2 / n) on n equally spaced points
-  bool stands_out = false;   // z > stand_out_z
+  bool stands_out = false;   // z beyond the Bonferroni 1 % Rayleigh bound over every profile's orders
   double energy_um2 = 0.0;   // the gap's sum of squares along this order given the others (n A^2 / 2 equally spaced)
 };
 
@@ -270,7 +270,7 @@ struct DiagnosisResult {
   std::optional<ReferenceMatch> reference_match;
   std::vector<GroupGap> by_feature, by_operation, by_a_index;
   double drift_um_per_h = 0.0, drift_u_um_per_h = 0.0;  // linear trend of the gap with t_s
-  std::vector<HarmonicGap> harmonics;      // every circular profile, orders 1..max_harmonic
+  std::vector<HarmonicGap> harmonics;      // every circular profile, orders 1..min(max_harmonic, distinct azimuths / 2 - 1)
   std::vector<std::string> standing_out;   // names of the groups that stand out
   std::vector<EffectParameter> base_parameters;  // identified base coefficients (without effect)
   std::vector<CandidateResult> candidates;       // best first (significant, then by cv_rms_after / cv_rms_before; unobservable last)

@@ -4,7 +4,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -123,12 +122,47 @@ bool IsCircularProfile(const std::vector<Eigen::Index>& idx, const std::vector<k
   return mean > 0 && hi - lo <= kCircularRadiusSpread * mean;
 }
 
+// Distinct azimuths among `phi` (rad; within 1e-6 rad, across the +-pi seam too): a profile probed
+// at several levels repeats them, and orders beyond half their number are aliases.
+int DistinctAzimuths(std::vector<double> phi) {
+  std::sort(phi.begin(), phi.end());
+  int n = 0;
+  for (std::size_t k = 0; k < phi.size(); ++k) n += k == 0 || phi[k] - phi[k - 1] > 1e-6;
+  if (n > 1 && phi.back() - phi.front() > 2.0 * kPi - 1e-6) --n;
+  return n;
+}
+
+// The least-squares fit of y on [1, cos k phi, sin k phi], k = 1..kmax: coefficients and (X^T X)^-1.
+// False when an order's variance exceeds 100 x the equal-spacing 2 / m (its amplitude would be
+// noise: azimuths too uneven or too few for that many orders) or the design is singular.
+bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kmax, Eigen::VectorXd* coef,
+               Eigen::MatrixXd* cov) {
+  const auto m = static_cast<Eigen::Index>(phi.size());
+  Eigen::MatrixXd X(m, 1 + 2 * kmax);
+  for (Eigen::Index row = 0; row < m; ++row) {
+    X(row, 0) = 1.0;
+    for (int k = 1; k <= kmax; ++k) {
+      const double a = k * phi[static_cast<std::size_t>(row)];
+      X(row, 2 * k - 1) = std::cos(a), X(row, 2 * k) = std::sin(a);
+    }
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> normal(X.transpose() * X);
+  const Eigen::VectorXd d = normal.vectorD();
+  if (normal.info() != Eigen::Success || d.minCoeff() <= 1e-9 * d.maxCoeff()) return false;
+  *cov = normal.solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+  if (cov->diagonal().tail(2 * kmax).maxCoeff() > 100.0 * 2.0 / static_cast<double>(m)) return false;
+  *coef = normal.solve(X.transpose() * y);
+  return true;
+}
+
 // Harmonics 1..kmax of the gap around one circular profile (azimuth phi about its centroid, part
-// Z): least squares on [1, cos k phi, sin k phi], so that a profile with points left out (a local
-// defect, a skipped hit) keeps its orders and its mean apart; a DFT's sums assume equally spaced
-// points. energy = (a, b) C^-1 (a, b)^T with C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s:
-// on equally spaced points m A^2 / 2 and A / (s sqrt(2 / m)), the DFT's. Appended to *all; nothing
-// when the design is singular (fewer distinct azimuths than columns).
+// Z): least squares on [1, cos k phi, sin k phi], so that unevenly spaced azimuths (hits left out
+// symmetrically, a tilted hole seen about Z) keep the mean and the orders apart; a DFT's sums
+// assume equal spacing. A gap that moves the centroid off the circle's centre still leaks between
+// orders. kmax: the most orders, up to min(max_harmonic, distinct azimuths / 2 - 1), that FitOrders
+// accepts (a tilted hole probed at two levels has its azimuths in close pairs). energy = (a, b)
+// C^-1 (a, b)^T, C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s: m A^2 / 2 and
+// A / (s sqrt(2 / m)) on m equally spaced points. Appended to *all.
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
                       const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0, double s,
                       int max_harmonic, std::vector<HarmonicGap>* all) {
@@ -136,30 +170,17 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
   for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
   c /= static_cast<double>(idx.size());
   if (!IsCircularProfile(idx, obs, c)) return;
-  const int kmax = std::min<int>(max_harmonic, static_cast<int>(idx.size()) / 2 - 1);
-  if (kmax < 1) return;
-  const auto m = static_cast<Eigen::Index>(idx.size());
-  Eigen::MatrixXd X(m, 1 + 2 * kmax);
-  Eigen::VectorXd y(m);
-  for (Eigen::Index row = 0; row < m; ++row) {
-    const auto i = idx[static_cast<std::size_t>(row)];
-    const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - c;
-    const double rho = std::hypot(d.x(), d.y());
-    // cos(k phi) + i sin(k phi) = w^k with w = e^{i phi}
-    const std::complex<double> w = rho > 0 ? std::complex<double>(d.x() / rho, d.y() / rho) : 1.0;
-    std::complex<double> wk = 1.0;
-    X(row, 0) = 1.0;
-    for (int k = 1; k <= kmax; ++k) {
-      wk *= w;
-      X(row, 2 * k - 1) = wk.real(), X(row, 2 * k) = wk.imag();
-    }
-    y(row) = r0(i);
+  std::vector<double> phi(idx.size());
+  Eigen::VectorXd y(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t row = 0; row < idx.size(); ++row) {
+    const Eigen::Vector3d d = obs[static_cast<std::size_t>(idx[row])].cut.nominal_point_mm - c;
+    phi[row] = std::atan2(d.y(), d.x());
+    y(static_cast<Eigen::Index>(row)) = r0(idx[row]);
   }
-  const Eigen::LDLT<Eigen::MatrixXd> normal(X.transpose() * X);
-  const Eigen::VectorXd diag = normal.vectorD();
-  if (normal.info() != Eigen::Success || diag.minCoeff() <= 1e-9 * diag.maxCoeff()) return;
-  const Eigen::VectorXd coef = normal.solve(X.transpose() * y);
-  const Eigen::MatrixXd cov = normal.solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+  Eigen::VectorXd coef;
+  Eigen::MatrixXd cov;
+  int kmax = std::min<int>(max_harmonic, DistinctAzimuths(phi) / 2 - 1);
+  while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov)) --kmax;
   for (int k = 1; k <= kmax; ++k) {
     const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k));
     const double energy = ab.dot(cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse() * ab);

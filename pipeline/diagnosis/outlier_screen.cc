@@ -8,7 +8,7 @@
 #include <map>
 
 #include "core/median.h"
-#include "core/tall_svd.h"
+#include "pipeline/diagnosis/diagnosis_least_squares.h"
 #include "pipeline/diagnosis/feature_neighbours.h"
 
 namespace tpcal::pipeline {
@@ -25,16 +25,10 @@ double MedianVariance(std::size_t k) {
 // An orthonormal basis of the columns of X scaled to unit norm (singular values at most 1e-9 of
 // the largest dropped). Raw polynomial columns (a sextic straightness candidate) span 15 orders of
 // magnitude; a pivoted QR of them kept directions at 1e-9 of the largest and returned residuals
-// 1e5 times |y|.
+// 1e5 times |y|. Plain norms, not ColumnNorms: its rounding rule, relative to the largest column,
+// would zero the unit base columns beside such monomials.
 Eigen::MatrixXd OrthonormalColumns(const Eigen::MatrixXd& X) {
-  if (X.cols() == 0) return X;
-  const Eigen::VectorXd norms = X.colwise().norm().transpose();
-  Eigen::MatrixXd Xs = X;
-  for (Eigen::Index c = 0; c < X.cols(); ++c) Xs.col(c) = norms(c) > 0 ? Eigen::VectorXd(X.col(c) / norms(c)) : Eigen::VectorXd::Zero(X.rows());
-  TallSvdResult svd = TallSvd(Xs, /*compute_u=*/true);
-  Eigen::Index rank = 0;
-  while (rank < svd.sigma.size() && svd.sigma(rank) > 1e-9 * svd.sigma(0)) ++rank;
-  return svd.U.leftCols(rank);
+  return diagnosis_internal::MakeBasis(X, X.colwise().norm().transpose(), 1e-9, true).U;
 }
 
 // Residuals at every row of the least-squares fit of y on Q (orthonormal columns) over the rows
@@ -50,8 +44,10 @@ Eigen::VectorXd TrimmedResiduals(const Eigen::MatrixXd& Q, const Eigen::VectorXd
     A.row(k) = Q.row(rows[static_cast<std::size_t>(k)]);
     b(k) = y(rows[static_cast<std::size_t>(k)]);
   }
+  // Q's singular values are at most 1: a direction the kept rows hold below 1e-6 of it is the
+  // flagged rows' alone, and fitting it would extrapolate their residuals.
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
-  cod.setThreshold(1e-9);
+  cod.setThreshold(1e-6);
   return y - Q * cod.solve(b);
 }
 
