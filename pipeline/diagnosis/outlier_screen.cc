@@ -26,8 +26,11 @@ double MedianVariance(std::size_t k) {
 // the largest dropped). Raw polynomial columns (a sextic straightness candidate) span 15 orders of
 // magnitude; a pivoted QR of them kept directions at 1e-9 of the largest and returned residuals
 // 1e5 times |y|. Plain norms, not ColumnNorms: its rounding rule, relative to the largest column,
-// would zero the unit base columns beside such monomials.
+// would zero the unit base columns beside such monomials. Columns already orthonormal (the
+// diagnosis's base basis) are returned as they are: X^T X costs a fraction of the SVD.
 Eigen::MatrixXd OrthonormalColumns(const Eigen::MatrixXd& X) {
+  const Eigen::MatrixXd gram = X.transpose() * X;
+  if ((gram - Eigen::MatrixXd::Identity(X.cols(), X.cols())).cwiseAbs().maxCoeff() < 1e-12) return X;
   return diagnosis_internal::MakeBasis(X, X.colwise().norm().transpose(), 1e-9, true).U;
 }
 
