@@ -68,6 +68,22 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
   return out;
 }
 
+// The maps' covariance in the coefficient order of out->maps (by name); left empty when a name
+// is missing.
+void IrSetMapCovariance(const kinematics::ErrorMaps& maps, InstrumentReference* out) {
+  const auto n = static_cast<Eigen::Index>(maps.entries.size());
+  if (maps.covariance.rows() != n || out->maps->num_coefficients() != n) return;
+  std::vector<Eigen::Index> at(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    auto c = out->maps->FindCoefficient(maps.entries[k].coefficient);
+    if (!c) return;
+    at[k] = *c;
+  }
+  out->map_covariance = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) out->map_covariance(at[i], at[j]) = maps.covariance(i, j);
+}
+
 Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
   ProbeArtifactsRequest request;
   request.path = r.path, request.artifacts_path = r.setup_path, request.machine_path = r.machine_path;
@@ -81,6 +97,7 @@ Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const Ins
   for (const auto& e : report->result.maps.entries)
     if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
   TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
+  IrSetMapCovariance(report->result.maps, &out);
   return out;
 }
 

@@ -23,6 +23,7 @@
 // Nothing is written here.
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 #include <set>
 #include <string>
@@ -65,6 +66,9 @@ struct InstrumentReference {
   // Their standard uncertainties (display units, k = 1) by ErrorState coefficient name, for the
   // entries the instrument determined; empty when unknown (a .json reference).
   std::vector<std::pair<std::string, double>> map_u;
+  // Their full covariance (display units, in the coefficient order of `maps`), when the instrument
+  // was identified here (probe_artifacts); empty otherwise (map_u alone, correlations unknown).
+  Eigen::MatrixXd map_covariance;
   std::vector<std::string> not_identifiable;  // map entries it cannot determine (written as 0)
   std::vector<std::string> not_separable;     // ballbar: families the maps carry no component of
 };

@@ -9,14 +9,16 @@
 #include <set>
 #include <utility>
 
+#include "kinematics/map_location_equivalent.h"
 #include "kinematics/prior_update.h"
+#include "pipeline/diagnosis/reference_agreement.h"
 #include "pipeline/identified_gap.h"
 
 namespace tpcal::pipeline::instrument_reference_internal {
 namespace {
 
 // "the instrument's error maps (600 node values; 4 not identifiable by its plan, taken as 0: ...)
-// as measured (...); no parameter in common with the piece's model: compared by simulation only".
+// as measured (...)".
 std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
   std::string note = fmt::format("the instrument's error maps ({} node values", ref.map_entries);
   if (!ref.not_identifiable.empty())
@@ -24,7 +26,7 @@ std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
                         fmt::join(ref.not_identifiable, ", "));
   if (!ref.not_separable.empty())
     note += fmt::format("; no component along what its installations cannot separate: {}", fmt::join(ref.not_separable, "; "));
-  return note + ") " + how + "; no parameter in common with the piece's model: compared by simulation only";
+  return note + ") " + how;
 }
 
 // The piece's observations without the single hits its own screen flagged as outliers: one dust
@@ -51,26 +53,34 @@ double ConflictP(const kinematics::PriorUpdate& up, const IdentifyStageResult& p
   return boost::math::cdf(boost::math::complement(f, std::max(0.0, up.conflict_chi2 / up.conflict_dof)));
 }
 
+// The piece's noise: given, else from its neighbours, else its identification's residual (um).
+double PieceSigma(const IdentifyStageResult& piece, const DiagnosisOptions& options) {
+  if (options.noise_um > 0.0) return options.noise_um;
+  if (piece.neighbour_sigma_um > 0.0) return piece.neighbour_sigma_um;
+  return std::max(piece.identification.sigma_um, 1e-3);
+}
+
 // The maps updated by the piece within their u when the piece agrees with them (conflict p >=
-// alpha), as measured otherwise; `how` says which, with the test.
+// alpha), as measured otherwise; `how` says which, with the test. `free`: parameters the maps
+// cannot see, weighed by the piece alone in the update and its test (at zero in the maps as measured).
 Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const InstrumentReference& ref,
                                                const IdentifyStageResult& piece, const DiagnosisOptions& options,
-                                               std::string* how) {
+                                               const std::vector<std::string>& free, std::string* how) {
   *how = "as measured (their u unknown)";
   if (ref.map_u.empty()) return *ref.maps;
   std::vector<std::string> names;
   std::vector<double> u;
   for (const auto& [name, u_k] : ref.map_u) names.push_back(name), u.push_back(u_k);
-  auto active = kinematics::SelectCoefficients(*ref.maps, names);
+  for (const std::string& name : free) names.push_back(name), u.push_back(0.0);  // the piece's alone
+  kinematics::ErrorState prior = *ref.maps;
+  auto active = kinematics::ActivateParameters(setup.machine, &prior, names);
   if (!active.ok()) {
     *how = "as measured (their u name no coefficient of the maps: " + active.status().message() + ")";
     return *ref.maps;
   }
   const bool known = options.noise_um > 0.0, neighbours = piece.neighbour_sigma_um > 0.0;
-  const double sigma_um = known ? options.noise_um
-                          : neighbours ? piece.neighbour_sigma_um
-                                       : std::max(piece.identification.sigma_um, 1e-3);
-  auto up = kinematics::UpdateWithinPrior(setup.machine, *ref.maps, *active, u, UnflaggedObservations(piece), sigma_um);
+  const double sigma_um = PieceSigma(piece, options);
+  auto up = kinematics::UpdateWithinPrior(setup.machine, prior, *active, u, UnflaggedObservations(piece), sigma_um);
   if (!up.ok()) return up.status();
   const double p = ConflictP(*up, piece, options);
   const std::string test =
@@ -90,29 +100,138 @@ Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const I
   return up->posterior;
 }
 
-// The piece's own outlier screen flags what its model lacks and the maps may hold (an error
-// motion): the piece is identified with every point and the diagnosis screens against the maps.
-// The caller's identification serves when its screen flagged nothing.
+// The maps' parameter equivalent on the piece's parameters (kinematics/map_location_equivalent.h),
+// compared with the piece; `made` false (and `why`) when the maps have none: a ball bar's carry no
+// component along the location errors, maps without a grid of table poses.
+struct MapsComparison {
+  bool made = false;
+  std::string why;
+  kinematics::MapEquivalent equivalent;
+  ReferenceAgreement agreement;
+  std::set<std::string> held;      // the piece disagrees: refitted on top of the maps as measured
+  std::vector<std::string> unseen; // no number from the maps, one from the piece: fitted from it
+};
+
+kinematics::MapEquivalentInput EquivalentInput(const InstrumentReference& ref) {
+  kinematics::MapEquivalentInput in;
+  if (ref.map_u.empty()) return in;  // u unknown: every entry taken as determined
+  const int n = ref.maps->num_coefficients();
+  in.determined.assign(n, false);
+  std::vector<double> u(n, 0.0);
+  for (const auto& [name, u_k] : ref.map_u)
+    if (auto c = ref.maps->FindCoefficient(name)) in.determined[*c] = true, u[*c] = u_k;
+  if (ref.map_covariance.rows() == n) in.covariance = ref.map_covariance;
+  else in.u = std::move(u);
+  return in;
+}
+
+// The piece's own parameters on top of the maps: fitted from zero over them while the maps' nodes
+// move within their u (kinematics::UpdateWithinPrior: the parameters with no prior, the
+// re-alignment projected out). Its value for a parameter is the equivalent's plus that fit, its
+// u the fit's, the maps' noise included (their correlations not used): so what the maps hold
+// beyond location errors (error motions) enters both sides alike, and the difference is the fit.
+// A parameter the piece cannot identify alone is not compared (nor its combinations).
+Result<std::vector<kinematics::ParameterEstimate>> PieceOnTheMaps(const LoadedPiece& setup, const InstrumentReference& ref,
+                                                                  const IdentifyStageResult& piece,
+                                                                  const DiagnosisOptions& options,
+                                                                  const kinematics::MapEquivalent& eq) {
+  std::vector<kinematics::ParameterEstimate> out = piece.identification.parameters;
+  std::vector<std::string> names;
+  std::vector<double> u;
+  for (const auto& p : out) names.push_back(p.name), u.push_back(0.0);
+  for (const auto& [name, u_k] : ref.map_u) names.push_back(name), u.push_back(u_k);
+  kinematics::ErrorState prior = *ref.maps;
+  auto active = kinematics::ActivateParameters(setup.machine, &prior, names);
+  if (!active.ok()) return active.status();
+  auto fit = kinematics::UpdateWithinPrior(setup.machine, prior, *active, u, UnflaggedObservations(piece),
+                                           PieceSigma(piece, options));
+  if (!fit.ok()) return fit.status();
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    out[k].identifiable = out[k].identifiable && fit->posterior_u[k] > 0.0;
+    out[k].value = (eq.parameters[k].identifiable ? eq.parameters[k].value : 0.0) + fit->delta[k];
+    out[k].u = fit->posterior_u[k];
+    out[k].uncertainties.clear();
+  }
+  return out;
+}
+
+MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& ref, const IdentifyStageResult& piece,
+                           const DiagnosisOptions& options) {
+  MapsComparison out;
+  if (!ref.not_separable.empty()) {
+    out.why = "its maps carry no component along the location errors";
+    return out;
+  }
+  const auto& params = piece.identification.parameters;
+  std::vector<std::string> names;
+  for (const auto& p : params) names.push_back(p.name);
+  auto eq = kinematics::ParameterEquivalentOfMaps(setup.machine, *ref.maps, names, EquivalentInput(ref));
+  if (!eq.ok()) {
+    out.why = eq.status().message();
+    return out;
+  }
+  auto on_maps = PieceOnTheMaps(setup, ref, piece, options, *eq);
+  if (!on_maps.ok()) {
+    out.why = "the piece on top of the maps: " + on_maps.status().message();
+    return out;
+  }
+  out.made = true;
+  out.equivalent = std::move(*eq);
+  out.agreement = CompareWithReference(out.equivalent.parameters, *on_maps, {}, options.alpha);
+  out.held = DisagreeingParameters(out.agreement, out.equivalent.parameters);
+  for (std::size_t k = 0; k < params.size(); ++k)
+    if (!out.equivalent.parameters[k].identifiable && params[k].identifiable) out.unseen.push_back(params[k].name);
+  return out;
+}
+
+// "compared through their parameter equivalent (...)", or why no parameter is compared.
+std::string ComparisonNote(const MapsComparison& c) {
+  if (!c.made) return "no parameter in common with the piece's model (" + c.why + "): compared by simulation only";
+  std::string note = fmt::format(
+      "compared through their parameter equivalent (the piece's parameters that best reproduce the maps' table "
+      "poses at {} positions, leaving {:.2f} um and {:.1f} urad RMS{})",
+      c.equivalent.positions, c.equivalent.residual_rms_um, c.equivalent.residual_rms_urad,
+      c.equivalent.u_known ? "" : "; their u unknown");
+  if (!c.unseen.empty())
+    note += fmt::format("; not seen by the instrument, fitted from the piece on top of the maps: {}", fmt::join(c.unseen, ", "));
+  if (!c.held.empty())
+    note += fmt::format("; the piece disagrees on {}: refitted on top of the maps as measured (the gap with them held "
+                        "is reference_held_rms_um)",
+                        fmt::join(c.held, ", "));
+  return note;
+}
+
 }  // namespace
 
+// The piece's own outlier screen flags what its model lacks and the maps may hold (an error
+// motion): the piece is identified with every point and the diagnosis screens against the maps.
+// The caller's identification serves when its screen flagged nothing. Where the maps have a
+// parameter equivalent, the piece's parameters the maps cannot see are fitted from the piece
+// (free in the maps' update), and those it disagrees on are refitted on top of the maps as measured.
 Result<DiagnosisResult> DiagnoseAgainstMaps(const LoadedPiece& setup, const PointSet& measured, const InstrumentReference& ref,
-                                      const DiagnosisOptions& options, const IdentifyStageResult* identified) {
+                                            const DiagnosisOptions& options, const IdentifyStageResult* identified) {
   const bool unscreened = identified != nullptr && identified->outliers.empty() && identified->local_defects.empty();
   DiagnosisOptions keep_all = options;
   keep_all.screen_outliers = false;
   auto piece = PieceForReference(setup, measured, {}, ref.source, keep_all, unscreened ? identified : nullptr);
   if (!piece.ok()) return piece.status();
+  MapsComparison cmp = CompareMaps(setup, ref, *piece, options);
   std::string how;
-  auto maps = MapsForThePiece(setup, ref, *piece, options, &how);
+  auto maps = cmp.held.empty() ? MapsForThePiece(setup, ref, *piece, options, cmp.unseen, &how)
+                               : Result<kinematics::ErrorState>(*ref.maps);
   if (!maps.ok()) return maps.status();
+  if (!cmp.held.empty()) how = "as measured";
   piece->outliers.clear(), piece->local_defects.clear();
-  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, OptionsForReference(options, ref, std::move(*maps)));
+  DiagnosisOptions d_options = OptionsForReference(options, ref, std::move(*maps));
+  d_options.reference_free.assign(cmp.held.begin(), cmp.held.end());
+  d_options.reference_free.insert(d_options.reference_free.end(), cmp.unseen.begin(), cmp.unseen.end());
+  auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, d_options);
   if (!d.ok()) return d.status();
-  ReferenceAgreement agreement;
-  agreement.alpha = options.alpha, agreement.p_threshold = options.alpha;
+  ReferenceAgreement agreement = cmp.made ? std::move(cmp.agreement) : ReferenceAgreement{};
+  if (!cmp.made) agreement.alpha = options.alpha, agreement.p_threshold = options.alpha;
   agreement.instrument = ref.instrument;
   agreement.source = ref.source;
-  agreement.reference_note = MapsNote(ref, how);
+  agreement.reference_note = MapsNote(ref, how) + "; " + ComparisonNote(cmp);
   d->reference_agreement = std::move(agreement);
   return d;
 }
