@@ -95,7 +95,9 @@ Result<MeSystem> MeBuild(const MachineModel& model, const ErrorState& maps, cons
   for (const AxisState& s : grid) {
     std::vector<int> m = MeMovers(maps, s);
     bool ok = true;
-    for (int c : m) ok = ok && (in.determined.empty() || in.determined[c]);
+    for (int c : m)
+      ok = ok && (in.determined.empty() || in.determined[c] ||
+                  maps.terms()[maps.coefficient_info(c).term].kind != TermKind::kTable);
     if (ok) used.push_back(s), movers.push_back(std::move(m));
   }
   if (used.empty())

@@ -32,7 +32,8 @@ struct MapEquivalentInput {
   Eigen::MatrixXd covariance;
   std::vector<double> u;
   // Per coefficient: determined by the instrument (empty = all). A grid position is used only
-  // when every entry that moves its pose is determined.
+  // when every table entry that moves its pose is determined (other terms, e.g. constant errors
+  // identified with the maps, are taken as given).
   std::vector<bool> determined;
 };
 

@@ -18,6 +18,7 @@
 
 #include "core/portable_random.h"
 #include "kinematics/map_location_equivalent.h"
+#include "kinematics/probe_touch.h"
 #include "kinematics/forward_kinematics.h"
 
 namespace tpcal::kinematics {
@@ -214,7 +215,10 @@ TEST(ProbeArtifacts, RandomPositionDependentErrorsWithinThreeU) {
 
 // Honest u: over 200 simulated tests (seeds 1000..1199, 0.5 um noise, one random truth each) the
 // 95 % intervals of all 168 map entries cover the gauged truth 93-97 % of the time, and at most
-// 0.4 % of them lie beyond 3 u (normal: 0.27 %; binomial sd over 33600 entries 0.03 %).
+// 0.7 % of them lie beyond 3 u (normal: 0.27 %). The entries of one test share its sigma and its
+// squareness estimates, so the tail fraction scatters like 200 samples, not 33600: measured
+// 0.59 %, 0.27 % and 0.28 % on seeds from 1000, 2000 and 5000 (0.36, 0.24 and 0.29 % without
+// the squareness columns); u 1.3 times too small would put 2 % beyond.
 TEST(ProbeArtifacts, NinetyFivePercentIntervalsCoverTheTruth) {
   const MachineModel m = PaMachine();
   int covered = 0, total = 0, beyond3 = 0;
@@ -233,7 +237,7 @@ TEST(ProbeArtifacts, NinetyFivePercentIntervalsCoverTheTruth) {
   const double coverage = static_cast<double>(covered) / total;
   std::printf("coverage of the 95 %% intervals: %.4f over %d entries; beyond 3 u: %.4f\n", coverage, total,
               static_cast<double>(beyond3) / total);
-  EXPECT_LE(static_cast<double>(beyond3) / total, 0.004);
+  EXPECT_LE(static_cast<double>(beyond3) / total, 0.007);
   EXPECT_GE(coverage, 0.93);
   EXPECT_LE(coverage, 0.97);
 }
@@ -393,6 +397,91 @@ TEST(ProbeArtifacts, ParameterEquivalentNeedsTheMapsGridAndKnownNames) {
   MapEquivalentInput none = PaEquivalentInput(r->maps);
   none.determined.assign(none.determined.size(), false);
   EXPECT_EQ(ParameterEquivalentOfMaps(m, r->maps.maps, {"E_X0C"}, none).status().code(), StatusCode::kTooFewPoints);
+}
+
+
+
+// The linear axes' squareness (table_poses.h): touches simulated through the whole chain
+// (SimulateTouch, 3 mm stylus) of a table with location errors and squareness of 15, -12 and
+// 10 urad. Noise-free, the fit returns the squareness to 0.05 urad (first order over the 300 mm
+// volume: (50 urad)^2 x 300 mm is 1e-6 um) and the maps the gauged location errors to 0.01 um /
+// urad (measured 0.004); without the squareness columns the maps take the shear in (measured:
+// 10 um / urad at worst). With 0.3 um touches the squareness lies within 3 u.
+std::vector<ProbeTouch> PaChainTouches(const MachineModel& m, const ErrorState& truth, double sigma_um, std::uint64_t seed) {
+  const ArtifactSet set = Seed000Artifacts();
+  std::mt19937_64 rng(seed);
+  std::vector<ProbeTouch> out;
+  for (double a : {0.0, -30.0, -60.0, -90.0}) {
+    for (double c = 0.0; c < 360.0; c += 60.0) {
+      const AxisState s = PaRotary(a, c);
+      for (int b = 0; b < 3; ++b) {
+        for (BoxFace f : kBoxFaces) {
+          const FaceGeometry g = FaceOf(set.boxes[b], f);
+          const Eigen::Vector3d d = NominalApproach(m, s, g);
+          if (-d.z() < -0.1) continue;  // faces down
+          auto contact = SimulateTouch(m, truth, s, g, g.centre_mm, TouchOptions{});
+          EXPECT_TRUE(contact.ok()) << contact.status().message();
+          ProbeTouch touch;
+          touch.rotary = s;
+          touch.artifact = b;
+          touch.face = f;
+          touch.approach = d;
+          touch.contact_mm = *contact + 1e-3 * sigma_um * StandardNormal(rng) * d;
+          touch.line = out.size() + 4;
+          out.push_back(touch);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+ErrorState PaSquarenessTruth(const MachineModel& m) {
+  ErrorState truth = PaLocationTruth(m, 61);
+  EXPECT_TRUE(truth.SetParameter(m, "E_C(0X)Y", 15e-6).ok());
+  EXPECT_TRUE(truth.SetParameter(m, "E_B(0X)Z", -12e-6).ok());
+  EXPECT_TRUE(truth.SetParameter(m, "E_A(0Y)Z", 10e-6).ok());
+  return truth;
+}
+
+TEST(ProbeArtifacts, SquarenessOfTheLinearAxesIsFittedWithThePoses) {
+  const MachineModel m = PaMachine();
+  const ErrorState truth = PaSquarenessTruth(m);
+  const std::vector<ProbeTouch> touches = PaChainTouches(m, truth, 0.0, 1);
+  auto r = IdentifyProbeArtifacts(m, Seed000Artifacts(), touches);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_EQ(r->poses.linear_errors.size(), 3u);
+  for (const ParameterEstimate& e : r->poses.linear_errors) {
+    ASSERT_TRUE(e.identifiable) << e.name;
+    EXPECT_NEAR(e.value, PaDisplay(m, truth, e), 0.05) << e.name;
+  }
+  const ErrorMaps gauged = PaGaugedTruth(m, PaLocationTruth(m, 61), r->poses);
+  double worst = 0.0;
+  for (std::size_t c = 0; c < gauged.entries.size(); ++c)
+    worst = std::max(worst, std::abs(r->maps.entries[c].value - gauged.entries[c].value));
+  EXPECT_LT(worst, 0.01);
+  TablePoseOptions without;
+  without.linear_errors.clear();
+  auto biased = IdentifyProbeArtifacts(m, Seed000Artifacts(), touches, without);
+  ASSERT_TRUE(biased.ok()) << biased.status().message();
+  EXPECT_TRUE(biased->poses.linear_errors.empty());
+  double worst_biased = 0.0;
+  for (std::size_t c = 0; c < gauged.entries.size(); ++c)
+    worst_biased = std::max(worst_biased, std::abs(biased->maps.entries[c].value - gauged.entries[c].value));
+  std::printf("worst map error: %.4f with the squareness fitted, %.4f without\n", worst, worst_biased);
+  EXPECT_GT(worst_biased, 0.5);
+}
+
+TEST(ProbeArtifacts, SquarenessWithinThreeUOnNoisyTouches) {
+  const MachineModel m = PaMachine();
+  const ErrorState truth = PaSquarenessTruth(m);
+  auto r = IdentifyProbeArtifacts(m, Seed000Artifacts(), PaChainTouches(m, truth, 0.3, 62));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  for (const ParameterEstimate& e : r->poses.linear_errors) {
+    ASSERT_TRUE(e.identifiable) << e.name;
+    EXPECT_GT(e.u, 0.0);
+    EXPECT_LT(std::abs(e.value - PaDisplay(m, truth, e)), 3.0 * e.u) << e.name << " " << e.value << " +- " << e.u;
+  }
 }
 
 }  // namespace

@@ -65,6 +65,41 @@ Status CheckPoseTouches(const ArtifactSet& artifacts, std::span<const ProbeTouch
   return Status::Ok();
 }
 
+// d(probe centre in the part frame)/d(linear-axis error `c`) at touch `t`'s linear command (its
+// contact minus radius x approach), mm per rad, by central differences on the exact chain.
+Eigen::Vector3d PoseLinearColumn(const MachineModel& model, ErrorState* e, int c, const ProbeTouch& t,
+                                 double radius_mm) {
+  AxisState s = t.rotary;
+  const Eigen::Vector3d command = t.contact_mm - radius_mm * t.approach;
+  s.x_mm = command.x(), s.y_mm = command.y(), s.z_mm = command.z();
+  const double h = 1e-6;
+  Workspace ws;
+  e->set_coefficient(c, h);
+  const Eigen::Vector3d plus = ToolPointInPart(model, *e, s, Eigen::Vector3d::Zero(), &ws);
+  e->set_coefficient(c, -h);
+  const Eigen::Vector3d minus = ToolPointInPart(model, *e, s, Eigen::Vector3d::Zero(), &ws);
+  e->set_coefficient(c, 0.0);
+  return (plus - minus) / (2.0 * h);
+}
+
+// The fit with the linear axes error-free, its linear errors named and not identifiable.
+Result<TablePoseFit> PoseWithoutLinearErrors(const MachineModel& model, const ArtifactSet& artifacts,
+                                             std::span<const ProbeTouch> touches, const TablePoseOptions& options) {
+  TablePoseOptions without = options;
+  without.linear_errors.clear();
+  auto fit = FitTablePoses(model, artifacts, touches, without);
+  if (!fit.ok()) return fit;
+  ErrorState linear(model);
+  auto active = ActivateParameters(model, &linear, options.linear_errors);
+  for (std::size_t l = 0; l < options.linear_errors.size(); ++l) {
+    ParameterEstimate e;
+    e.name = options.linear_errors[l];
+    e.unit = active.ok() ? linear.coefficient_info(active->coefficients[l]).unit : "";
+    fit->linear_errors.push_back(std::move(e));
+  }
+  return fit;
+}
+
 }  // namespace
 
 Vector6d AbsoluteTablePoseError(const MachineModel& model, const ErrorState& errors, const AxisState& rotary) {
@@ -130,8 +165,12 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
   }
   const int np = static_cast<int>(fit.poses.size());
   const int ref_index = static_cast<int>(ref - fit.poses.begin());
-  // Columns: 6 per pose (the reference's stay zero), then one per face.
-  const int nx = 6 * np + nf, n = static_cast<int>(touches.size());
+  ErrorState linear(model);
+  auto linear_active = ActivateParameters(model, &linear, options.linear_errors);
+  if (!linear_active.ok()) return linear_active.status();
+  const int nl = linear_active->size();
+  // Columns: 6 per pose (the reference's stay zero), one per face, one per linear-axis error.
+  const int nx = 6 * np + nf + nl, n = static_cast<int>(touches.size());
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, nx);
   Eigen::VectorXd y(n), w = Eigen::VectorXd::Ones(n);
   for (int k = 0; k < n; ++k) {
@@ -152,6 +191,9 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
       a.block<1, 3>(k, 6 * p + 3) = 1e-3 * t.contact_mm.cross(nm).transpose();
     }
     a(k, 6 * np + touch_face[k]) = 1.0;
+    for (int l = 0; l < nl; ++l)
+      a(k, 6 * np + nf + l) = -1e-3 * g.normal.dot(PoseLinearColumn(model, &linear, linear_active->coefficients[l], t,
+                                                                    options.probe_radius_mm));
     if (t.u_um > 0.0) w(k) = 1.0 / t.u_um;
   }
   fit.weighted = touches.size() > 0 && touches[0].u_um > 0.0;
@@ -207,6 +249,19 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
     fit.faces[f].identifiable = determined(c);
     fit.faces[f].value_um = fit.faces[f].identifiable ? x(c) : 0.0;
     fit.faces[f].u_um = fit.faces[f].identifiable ? std::sqrt(cov(c, c)) : 0.0;
+  }
+  for (int l = 0; l < nl; ++l) {
+    const int c = 6 * np + nf + l;
+    if (!determined(c)) return PoseWithoutLinearErrors(model, artifacts, touches, options);
+    ParameterEstimate e;
+    e.name = options.linear_errors[l];
+    e.unit = linear.coefficient_info(linear_active->coefficients[l]).unit;
+    e.identifiable = true;
+    e.value = x(c);
+    e.u = std::sqrt(cov(c, c));
+    e.ci95_low = e.value - 1.959963984540054 * e.u;
+    e.ci95_high = e.value + 1.959963984540054 * e.u;
+    fit.linear_errors.push_back(std::move(e));
   }
   return fit;
 }

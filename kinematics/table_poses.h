@@ -16,6 +16,9 @@
 // component without a touch along it, a face never touched where the pose is known) is named,
 // and its covariance rows are zero. sigma = sqrt(SSR / (touches - rank)); with every touch's
 // u_um given, rows are weighted by 1/u and sigma is the chi-like scale of the covariance.
+// The linear axes' constant errors (TablePoseOptions::linear_errors, squareness by default) add
+// one column each: -n . d(probe centre in the part frame)/d(error) at the touch's linear command
+// (ToolPointInPart, the exact chain by central differences), global over every pose.
 #pragma once
 
 #include <Eigen/Core>
@@ -27,6 +30,7 @@
 #include "core/status.h"
 #include "kinematics/axis_state.h"
 #include "kinematics/error_state.h"
+#include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
 #include "kinematics/probe_artifacts.h"
 
@@ -59,12 +63,21 @@ struct TablePoseOptions {
   double reference_a_deg = 0.0, reference_c_deg = 0.0;
   double position_tolerance_deg = 1e-6;  // touches within this of a position share its pose
   double rank_tolerance = 1e-9;          // relative singular value below which a direction is dropped
+  // Constant errors of the linear axes fitted with the poses (catalog names): a squareness error
+  // shears the probed volume, which no rigid pose of the table explains but each pose would take
+  // in part. Fitted only when the touches determine every one of them (else none is, and each is
+  // reported not identifiable). Empty: the linear axes taken as error-free (seed 000's model).
+  std::vector<std::string> linear_errors = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
+  // The stylus ball radius (mm): a touch's linear command is its contact minus radius x approach.
+  double probe_radius_mm = 3.0;
 };
 
 struct TablePoseFit {
   std::vector<double> a_deg, c_deg;      // the distinct positions, ascending (C in [0, 360))
   std::vector<TablePose> poses;          // A-major, then C; only positions with touches
   std::vector<FaceOffsetEstimate> faces; // touched faces, artifact then kBoxFaces order
+  // options.linear_errors, in order (urad; value and u, k = 1, when identifiable).
+  std::vector<ParameterEstimate> linear_errors;
   Eigen::MatrixXd covariance;            // of the poses' 6 x poses values (um, urad), k = 1
   std::vector<double> residuals_um;      // per touch, input order
   int num_touches = 0, rank = 0, dof = 0;

@@ -51,6 +51,11 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
   InstrumentReference out;
   out.instrument = file->instrument.empty() ? "identification" : file->instrument;
   out.machine_type = file->machine;
+  for (const IdentifiedParameter& p : file->parameters) {
+    kinematics::ParameterEstimate e;
+    e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
+    out.parameters.push_back(std::move(e));
+  }
   if (!file->errors_yaml.empty()) {
     out.map_entries = file->map_entries;
     out.not_identifiable = file->not_identifiable;
@@ -58,28 +63,23 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     out.map_u = file->map_u;
     TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, out, path));
     TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, file->errors_yaml, path + " (its errors_yaml)", &out));
-    return out;
-  }
-  for (const IdentifiedParameter& p : file->parameters) {
-    kinematics::ParameterEstimate e;
-    e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
-    out.parameters.push_back(std::move(e));
   }
   return out;
 }
 
-// The maps' covariance in the coefficient order of out->maps (by name); left empty when a name
-// is missing.
+// The maps' covariance in the coefficient order of out->maps (by name; its constant errors get
+// zero rows); left empty when a name is missing.
 void IrSetMapCovariance(const kinematics::ErrorMaps& maps, InstrumentReference* out) {
   const auto n = static_cast<Eigen::Index>(maps.entries.size());
-  if (maps.covariance.rows() != n || out->maps->num_coefficients() != n) return;
+  if (maps.covariance.rows() != n) return;
   std::vector<Eigen::Index> at(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     auto c = out->maps->FindCoefficient(maps.entries[k].coefficient);
     if (!c) return;
     at[k] = *c;
   }
-  out->map_covariance = Eigen::MatrixXd::Zero(n, n);
+  const Eigen::Index all = out->maps->num_coefficients();  // the maps' entries and constant errors
+  out->map_covariance = Eigen::MatrixXd::Zero(all, all);
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = 0; j < n; ++j) out->map_covariance(at[i], at[j]) = maps.covariance(i, j);
 }
@@ -94,6 +94,7 @@ Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const Ins
   out.machine_type = report->machine;
   out.map_entries = static_cast<int>(report->result.maps.entries.size());
   out.not_identifiable = report->result.maps.not_identifiable;
+  out.parameters = report->result.poses.linear_errors;
   for (const auto& e : report->result.maps.entries)
     if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
   TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));

@@ -58,9 +58,11 @@ struct InstrumentReference {
   std::string instrument;  // "datum_ball", "probe_artifacts", "ballbar", or the .json's
   std::string source;      // request.path
   std::string machine_type;  // of the instrument's machine ("" when a .json names none)
-  // Location errors and squareness (datum ball, .json): compared parameter by parameter.
+  // Location errors and squareness (datum ball, .json): compared parameter by parameter. With
+  // maps: the constant errors identified with them (probe_artifacts: the linear axes' squareness),
+  // already in `maps` at their values.
   std::vector<kinematics::ParameterEstimate> parameters;
-  // Error maps (probe_artifacts, ballbar): the instrument's errors as measured; `parameters` empty.
+  // Error maps (probe_artifacts, ballbar): the instrument's errors as measured.
   std::optional<kinematics::ErrorState> maps;
   int map_entries = 0;                       // node values the instrument reports
   // Their standard uncertainties (display units, k = 1) by ErrorState coefficient name, for the

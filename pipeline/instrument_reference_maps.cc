@@ -61,8 +61,9 @@ double PieceSigma(const IdentifyStageResult& piece, const DiagnosisOptions& opti
 }
 
 // The maps updated by the piece within their u when the piece agrees with them (conflict p >=
-// alpha), as measured otherwise; `how` says which, with the test. `free`: parameters the maps
-// cannot see, weighed by the piece alone in the update and its test (at zero in the maps as measured).
+// alpha), as measured otherwise; `how` says which, with the test. The instrument's constant
+// errors (ref.parameters) move within their u too. `free`: parameters the instrument cannot see,
+// weighed by the piece alone in the update and its test (at zero in the maps as measured).
 Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const InstrumentReference& ref,
                                                const IdentifyStageResult& piece, const DiagnosisOptions& options,
                                                const std::vector<std::string>& free, std::string* how) {
@@ -71,6 +72,8 @@ Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const I
   std::vector<std::string> names;
   std::vector<double> u;
   for (const auto& [name, u_k] : ref.map_u) names.push_back(name), u.push_back(u_k);
+  for (const auto& p : ref.parameters)
+    if (p.identifiable && p.u > 0.0) names.push_back(p.name), u.push_back(p.u);
   for (const std::string& name : free) names.push_back(name), u.push_back(0.0);  // the piece's alone
   kinematics::ErrorState prior = *ref.maps;
   auto active = kinematics::ActivateParameters(setup.machine, &prior, names);
@@ -155,6 +158,25 @@ Result<std::vector<kinematics::ParameterEstimate>> PieceOnTheMaps(const LoadedPi
   return out;
 }
 
+// The catalog name of a parameter (aliases resolved: "beta_ZX" is "E_B(0X)Z"), else the name.
+std::string CanonicalName(const kinematics::MachineModel& m, const std::string& name) {
+  auto info = kinematics::LookupParameter(m, name);
+  return info.ok() ? info->name : name;
+}
+
+// The equivalent's parameters that the maps' table poses cannot determine, taken from the
+// instrument's own estimates of them where it has one (probe_artifacts: the linear axes'
+// squareness, fitted with its poses).
+void TakeDirectEstimates(const kinematics::MachineModel& m, const std::vector<kinematics::ParameterEstimate>& direct,
+                         std::vector<kinematics::ParameterEstimate>* equivalent) {
+  for (kinematics::ParameterEstimate& e : *equivalent) {
+    if (e.identifiable) continue;
+    for (const kinematics::ParameterEstimate& d : direct)
+      if (d.identifiable && CanonicalName(m, d.name) == CanonicalName(m, e.name) && d.unit == e.unit)
+        e.identifiable = true, e.value = d.value, e.u = d.u, e.ci95_low = d.ci95_low, e.ci95_high = d.ci95_high;
+  }
+}
+
 MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& ref, const IdentifyStageResult& piece,
                            const DiagnosisOptions& options) {
   MapsComparison out;
@@ -170,6 +192,7 @@ MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& 
     out.why = eq.status().message();
     return out;
   }
+  TakeDirectEstimates(setup.machine, ref.parameters, &eq->parameters);
   auto on_maps = PieceOnTheMaps(setup, ref, piece, options, *eq);
   if (!on_maps.ok()) {
     out.why = "the piece on top of the maps: " + on_maps.status().message();

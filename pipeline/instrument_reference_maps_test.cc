@@ -93,9 +93,9 @@ TEST(InstrumentReferenceMaps, ColdPieceAgainstTheProbingTestOfArtifactsIsNone) {
   ASSERT_TRUE(d->reference_agreement.has_value());
   const ReferenceAgreement& a = *d->reference_agreement;
   EXPECT_EQ(a.instrument, "probe_artifacts");
-  // The nine seed 002 parameters of A and C through the maps' parameter equivalent; the linear
-  // axes' squareness, which moves no table pose, is not compared.
-  EXPECT_EQ(a.compared, 9) << DiagnosisText(*d);
+  // The nine seed 002 parameters of A and C through the maps' parameter equivalent, and the
+  // linear axes' squareness (beta_ZX, alpha_ZY, E_C(0X)Y), which the probing test fits with its poses.
+  EXPECT_EQ(a.compared, 12) << DiagnosisText(*d);
   EXPECT_EQ(a.disagreeing, 0) << DiagnosisText(*d);
   EXPECT_NE(a.reference_note.find("compared through their parameter equivalent"), std::string::npos) << a.reference_note;
   EXPECT_EQ(d->verdict.family, "none") << DiagnosisText(*d);
@@ -116,7 +116,7 @@ TEST(InstrumentReferenceMaps, DriftWithheldFromTheProbingTestIsNamed) {
 
 // Two machines the instrument and the piece see differently in their location errors alone
 // (E_X0C 10 um on the probing test's, 16 um on the piece's, cold): the comparison names
-// dx_CR(0) and nothing else (the other eight agree); refitted on top of the maps, it leaves
+// dx_CR(0) and nothing else (the other eleven agree); refitted on top of the maps, it leaves
 // nothing for the catalogue: none.
 TEST(InstrumentReferenceMaps, AChangedLocationErrorIsTheOneThatDisagrees) {
   std::string moved = kMapsCold;
@@ -126,7 +126,7 @@ TEST(InstrumentReferenceMaps, AChangedLocationErrorIsTheOneThatDisagrees) {
   auto d = AgainstProbe(MapsPiece(moved, 24), WriteProbepts(0.05, 34));
   ASSERT_TRUE(d.ok()) << d.status().ToString();
   const ReferenceAgreement& a = *d->reference_agreement;
-  EXPECT_EQ(a.compared, 9) << DiagnosisText(*d);
+  EXPECT_EQ(a.compared, 12) << DiagnosisText(*d);
   EXPECT_EQ(a.disagreeing, 1) << DiagnosisText(*d);
   for (const AgreementRow& row : a.rows) {
     if (row.name != "dx_CR(0)") continue;

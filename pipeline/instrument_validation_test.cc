@@ -70,18 +70,21 @@ TEST(InstrumentValidation, LooseDatumBallRaisesNoAlarm) {
 
 // Against a probing test of artifacts (0.05 um touches, C every 15 deg): every trial is diagnosed
 // against the maps and compared through their parameter equivalent (the nine seed 002 parameters
-// of A and C; no trial fails). Truth measured on the CLI's run (README): the validation's cold
-// machines carry squareness of the linear axes, which the probing test's model lacks and its maps
-// take in, and 8 of 10 effect-free pieces read location_errors; the test guards that the verdict
-// says so (location_errors, not a catalogue effect) rather than a rate.
+// of A and C) and the squareness the probing test fits with its poses (three): twelve rows. The
+// validation's cold machines carry location errors and squareness of the linear axes (+-20 um /
+// urad); before the probing test fitted the squareness its maps took the shear in and every
+// effect-free piece read location_errors (10 of 10, README). Two effect-free pieces read none,
+// and a withheld tool deflection and a drift at 10x are named (the CLI's matrix: 10 of 10 each).
 TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
-  auto s = RunInstrumentValidation(setup, SmallInstrumentStudy({"none"}, 2), {.instrument = "probe_artifacts", .noise_um = 0.05});
+  auto s = RunInstrumentValidation(setup, SmallInstrumentStudy({"none", "tool_deflection", "thermal_drift"}, 2),
+                                   {.instrument = "probe_artifacts", .noise_um = 0.05});
   ASSERT_TRUE(s.ok()) << s.status().ToString();
-  ASSERT_EQ(s->trials.size(), 2u);
+  ASSERT_EQ(s->trials.size(), 6u);
   for (const ValidationTrial& t : s->trials) {
-    EXPECT_EQ(t.reference_compared, 9) << t.true_detail;
-    EXPECT_EQ(t.verdict, "location_errors") << t.true_detail;
+    EXPECT_EQ(t.reference_compared, 12) << t.true_detail;
+    EXPECT_EQ(t.verdict, t.true_family) << t.true_detail;
+    if (t.true_family == "none") EXPECT_EQ(t.reference_disagreeing, 0) << t.true_detail;
   }
 }
 

@@ -57,7 +57,9 @@ Result<std::vector<kinematics::ProbeTouch>> ProbeTouches(const ProbePointFile& f
   return touches;
 }
 
-std::string ProbeErrorsYaml(const kinematics::MachineModel& m, const kinematics::ErrorMaps& maps) {
+// The maps and the linear axes' errors fitted with the poses (squareness), as tpcal.errors/1.
+Result<std::string> ProbeErrorsYaml(const kinematics::MachineModel& m, const kinematics::ProbeArtifactsResult& r) {
+  const kinematics::ErrorMaps& maps = r.maps;
   std::string out = "# error maps identified from a probing test of artifacts (tpcal identify --instrument probe_artifacts)\n";
   for (const std::string& c : maps.conventions) out += "# " + c + "\n";
   if (!maps.not_identifiable.empty()) {
@@ -65,7 +67,18 @@ std::string ProbeErrorsYaml(const kinematics::MachineModel& m, const kinematics:
     for (const std::string& n : maps.not_identifiable) out += " " + n;
     out += "\n";
   }
-  return out + kinematics::FormatErrorState(maps.maps, m);
+  kinematics::ErrorState errors = maps.maps;
+  std::string linear;
+  for (const kinematics::ParameterEstimate& e : r.poses.linear_errors) {
+    if (!e.identifiable) {
+      linear += " " + e.name + " (not identifiable, 0)";
+      continue;
+    }
+    TPCAL_RETURN_IF_ERROR(errors.SetParameter(m, e.name, e.unit == "um" ? e.value * 1e-3 : e.value * 1e-6));
+    linear += " " + e.name;
+  }
+  if (!linear.empty()) out += "# the linear axes' errors fitted with the table poses:" + linear + "\n";
+  return out + kinematics::FormatErrorState(errors, m);
 }
 
 }  // namespace
@@ -94,7 +107,9 @@ Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest&
   report.machine = kinematics::MachineTypeName(machine->type);
   report.artifacts = *set;
   for (const auto& t : *touches) report.lines.push_back(t.line);
-  report.errors_yaml = ProbeErrorsYaml(*machine, report.result.maps);
+  auto yaml = ProbeErrorsYaml(*machine, report.result);
+  if (!yaml.ok()) return yaml.status();
+  report.errors_yaml = std::move(*yaml);
   return report;
 }
 

@@ -138,10 +138,8 @@ Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const 
   out.source = source;
   out.instrument = StringOr(doc, "instrument");
   out.machine = StringOr(doc, "machine");
-  if (maps) {
-    ReadMapFields(doc, &out);
-    return out;
-  }
+  if (maps) ReadMapFields(doc, &out);
+  if (maps && !(doc.contains("parameters") && doc["parameters"].is_array())) return out;
   const json& params = doc["parameters"];
   for (std::size_t i = 0; i < params.size(); ++i) {
     auto p = ParameterOf(params[i], i, source);

@@ -23,6 +23,8 @@ struct IdentificationFile {
   std::string source;
   std::string instrument;  // "" for a test piece's identification
   std::string machine;     // machine type name ("ac_table", ...), "" if absent
+  // A parameter file's; of an error-map instrument's, the constant errors identified with its
+  // maps (probe_artifacts: the linear axes' squareness), optional there.
   std::vector<IdentifiedParameter> parameters;
   // An error-map instrument's file (probe_artifacts, ballbar): its maps as one tpcal.errors/1
   // document ("errors_yaml"), the number of map entries, those without a number and (ball bar)

@@ -150,6 +150,29 @@ PaJson PaFacesJson(const ProbeArtifactsReport& report) {
   return faces;
 }
 
+// The linear axes' errors fitted with the poses, as identify's "parameters" (tpcal.identification/1).
+PaJson PaLinearErrorsJson(const TablePoseFit& fit) {
+  PaJson out = PaJson::array();
+  for (const kinematics::ParameterEstimate& e : fit.linear_errors)
+    out.push_back({{"name", e.name},
+                   {"unit", e.unit},
+                   {"identifiable", e.identifiable},
+                   {"value", OrNull(e.identifiable, e.value)},
+                   {"u", OrNull(e.identifiable, e.u)},
+                   {"ci95", e.identifiable ? PaJson{e.ci95_low, e.ci95_high} : PaJson(nullptr)}});
+  return out;
+}
+
+// "linear axes' errors fitted with the poses, value +- u (k=1): E_C(0X)Y 1.234 +- 0.567 urad, ...".
+std::string PaLinearErrorsLine(const TablePoseFit& fit) {
+  if (fit.linear_errors.empty()) return "linear axes taken as error-free (no squareness fitted)\n";
+  std::string o = "linear axes' errors fitted with the poses, value +- u (k=1):";
+  for (const kinematics::ParameterEstimate& e : fit.linear_errors)
+    o += fmt::format(" {} {} {};", e.name, PaValueU(e.identifiable, e.value, e.u), e.unit);
+  o.back() = '\n';
+  return o;
+}
+
 PaJson PaMapsJson(const kinematics::ErrorMaps& maps) {
   PaJson out = PaJson::array();
   for (const ErrorMapEntry& e : maps.entries) {
@@ -175,7 +198,7 @@ std::string PaHeaderLine(const ProbeArtifactsReport& report) {
                               report.artifacts.boxes.size());
   o += fmt::format("fit: {} table poses, rank {}, dof {}, sigma {:.3f} um", f.poses.size(), f.rank, f.dof, f.sigma_um);
   if (f.weighted) o += fmt::format(", weighted by each touch's u_um: chi-like scale {:.3f}", f.chi_scale);
-  return o + "\n";
+  return o + "\n" + PaLinearErrorsLine(f);
 }
 
 // The 12 maps' block for one symbol: A maps one row per A; C maps one row per A, columns C.
@@ -438,6 +461,7 @@ std::string ProbeArtifactsJson(const ProbeArtifactsReport& report) {
   j["c_deg"] = r.maps.c_deg;
   j["poses"] = PaPosesJson(r.poses);
   j["faces"] = PaFacesJson(report);
+  j["parameters"] = PaLinearErrorsJson(r.poses);
   j["maps"] = PaMapsJson(r.maps);
   j["not_identifiable"] = r.maps.not_identifiable;
   PaJson res = PaJson::array();
