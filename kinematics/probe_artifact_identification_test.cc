@@ -333,7 +333,9 @@ TEST(ProbeArtifacts, ParameterEquivalentOfNoiseFreeMapsIsTheTruth) {
   for (const ParameterEstimate& p : q->parameters) {
     const bool rotary = std::find(kPaRotaryLocation.begin(), kPaRotaryLocation.end(), p.name) != kPaRotaryLocation.end();
     EXPECT_EQ(p.identifiable, rotary) << p.name;
-    if (rotary) EXPECT_NEAR(p.value, PaDisplay(m, truth, p), 5e-3) << p.name;
+    if (rotary) {
+      EXPECT_NEAR(p.value, PaDisplay(m, truth, p), 5e-3) << p.name;
+    }
   }
 }
 
@@ -355,7 +357,9 @@ TEST(ProbeArtifacts, ParameterEquivalentInSeed002Terms) {
   for (const ParameterEstimate& p : q->parameters) {
     const bool linear = p.name == "beta_ZX" || p.name == "alpha_ZY";
     EXPECT_EQ(p.identifiable, !linear) << p.name;
-    if (!linear) EXPECT_NEAR(p.value, PaDisplay(m, truth, p), 5e-3) << p.name;
+    if (!linear) {
+      EXPECT_NEAR(p.value, PaDisplay(m, truth, p), 5e-3) << p.name;
+    }
   }
 }
 

@@ -18,8 +18,13 @@
 //    must stand out over hundreds of degrees of freedom to keep the maps as measured, so a small
 //    one on top of noisy maps may be updated away (README: a 3 um drift on 1 um maps). The piece is identified with its own parameters and every point
 //    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
-//    against the maps. No parameter is compared (the table says so and names what the instrument
-//    left undetermined): the two meet through the simulated piece only.
+//    against the maps. The piece's parameters are compared with the maps' parameter equivalent
+//    (kinematics/map_location_equivalent.h; probe_artifacts: with the linear axes' squareness it
+//    fits, `parameters`), the piece's side being the equivalent plus the piece's own fit on top
+//    of the maps; those the two disagree on are refitted on top of the maps as measured, those
+//    the instrument cannot see are fitted from the piece (instrument_reference_maps.h). A ball
+//    bar's maps have no equivalent (no component along the location errors): nothing is
+//    compared, the table says why, and the two meet through the simulated piece only.
 // Nothing is written here.
 #pragma once
 

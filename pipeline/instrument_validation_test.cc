@@ -84,7 +84,9 @@ TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
   for (const ValidationTrial& t : s->trials) {
     EXPECT_EQ(t.reference_compared, 12) << t.true_detail;
     EXPECT_EQ(t.verdict, t.true_family) << t.true_detail;
-    if (t.true_family == "none") EXPECT_EQ(t.reference_disagreeing, 0) << t.true_detail;
+    if (t.true_family == "none") {
+      EXPECT_EQ(t.reference_disagreeing, 0) << t.true_detail;
+    }
   }
 }
 
