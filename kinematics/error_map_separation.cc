@@ -1,10 +1,10 @@
 #include "kinematics/error_map_separation.h"
 
-#include <Eigen/SVD>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
+#include "kinematics/internal/scaled_solve.h"
 #include "kinematics/internal/student_t.h"
 
 namespace tpcal::kinematics {
@@ -130,19 +130,9 @@ Result<ErrorMaps> SeparateTablePoses(const MachineModel& model, const TablePoseF
       }
     }
   }
-  Eigen::VectorXd scale(ne);
-  for (int e = 0; e < ne; ++e) {
-    const double n = s.col(e).norm();
-    scale(e) = n > 0.0 ? 1.0 / n : 0.0;
-  }
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(s * scale.asDiagonal(), Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  int rank = 0;
-  while (rank < sv.size() && sv(rank) > 1e-9 * sv(0)) ++rank;
-  const Eigen::MatrixXd v = svd.matrixV().leftCols(rank);
   // entries = m * rhs (the minimum-norm solution in scaled columns).
-  const Eigen::MatrixXd m = scale.asDiagonal() * v * sv.head(rank).cwiseInverse().asDiagonal() *
-                            svd.matrixU().leftCols(rank).transpose();
+  const internal::ScaledSolve solve = internal::SolveScaled(s);
+  const Eigen::MatrixXd& m = solve.m;
   const Eigen::VectorXd values = m * rhs;
   const Eigen::MatrixXd mp = m * rhs_cov_map;
   out.covariance = mp * fit.covariance * mp.transpose();
@@ -159,7 +149,7 @@ Result<ErrorMaps> SeparateTablePoses(const MachineModel& model, const TablePoseF
     const int j = info.index / static_cast<int>(term.nodes.size());
     x.a_deg = x.c_map ? fit.a_deg[j] : fit.a_deg[i];
     x.c_deg = x.c_map ? fit.c_deg[i] : 0.0;
-    x.identifiable = scale(e) > 0.0 && std::abs(v.row(e).squaredNorm() - 1.0) < 1e-6;
+    x.identifiable = solve.Determined(e);
     if (x.identifiable) {
       x.value = values(e);
       x.u = std::sqrt(std::max(0.0, out.covariance(e, e)));

@@ -1,8 +1,8 @@
 #include "kinematics/map_location_equivalent.h"
 
-#include <Eigen/SVD>
 #include <cmath>
 
+#include "kinematics/internal/scaled_solve.h"
 #include "kinematics/probe_artifacts.h"
 #include "kinematics/table_poses.h"
 
@@ -141,19 +141,10 @@ Result<MapEquivalent> ParameterEquivalentOfMaps(const MachineModel& model, const
   if (!act.ok()) return act.status();
   auto sys = MeBuild(model, maps, *grid, in, &params, *act);
   if (!sys.ok()) return sys.status();
-  const int nk = act->size(), nx = nk + 6;
-  Eigen::VectorXd scale(nx);
-  for (int k = 0; k < nx; ++k) {
-    const double n = sys->h.col(k).norm();
-    scale(k) = n > 1e-12 ? 1.0 / n : 0.0;
-  }
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(sys->h * scale.asDiagonal(), Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  int rank = 0;
-  while (rank < sv.size() && sv(rank) > 1e-9 * sv(0)) ++rank;
-  const Eigen::MatrixXd v = svd.matrixV().leftCols(rank);
-  const Eigen::MatrixXd m = scale.asDiagonal() * v * sv.head(rank).cwiseInverse().asDiagonal() *
-                            svd.matrixU().leftCols(rank).transpose();
+  const int nk = act->size();
+  // A column below 1e-12 (um or urad per unit) is a parameter that moves no table pose.
+  const internal::ScaledSolve solve = internal::SolveScaled(sys->h, 1e-9, 1e-12);
+  const Eigen::MatrixXd& m = solve.m;
   const Eigen::VectorXd x = m * sys->y;
   const Eigen::MatrixXd a = m.topRows(nk) * sys->gy;  // parameters per map entry
   MapEquivalent out;
@@ -174,7 +165,7 @@ Result<MapEquivalent> ParameterEquivalentOfMaps(const MachineModel& model, const
     p.name = names[k];
     p.unit = info.unit;
     if (auto catalog = LookupParameter(model, names[k]); catalog.ok()) p.iso_symbol = catalog->iso_symbol;
-    p.identifiable = scale(k) > 0.0 && std::abs(v.row(k).squaredNorm() - 1.0) < 1e-6;
+    p.identifiable = solve.Determined(k);
     if (p.identifiable) {
       p.value = x(k);
       p.u = std::sqrt(std::max(0.0, cov(k, k)));
