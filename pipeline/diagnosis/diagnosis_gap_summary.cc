@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -105,7 +106,7 @@ void FitDrift(const Eigen::VectorXd& r0, const std::vector<double>& t_s, double 
   }
 }
 
-// Whether the feature's points lie on circles about their centroid's Z line: their radii about it
+// Whether the feature's points lie on circles about the Z line through `c`: their radii about it
 // spread by at most 20 % of the mean. A line or a plane (M1's slot sides, the square's faces) has
 // radii from 0 to half its length: its "harmonics" are its bow and tilt, and read as 1, 3, 5 lobes.
 constexpr double kCircularRadiusSpread = 0.2;
@@ -120,6 +121,40 @@ bool IsCircularProfile(const std::vector<Eigen::Index>& idx, const std::vector<k
   }
   const double mean = sum / static_cast<double>(idx.size());
   return mean > 0 && hi - lo <= kCircularRadiusSpread * mean;
+}
+
+// The centre of a profile's nominal points: the circle through them in part XY (an algebraic
+// fit, exact for points on a circle: x^2 + y^2 + D x + E y + F = 0 by least squares, about the
+// centroid), at the centroid's Z, when the fit is well posed and its azimuths leave no gap above
+// 120 deg; else the centroid. Hits missing on one side move the centroid off the circle's centre
+// (the orders then leak into each other), not the circle.
+Eigen::Vector3d ProfileCentre(const std::vector<Eigen::Index>& idx, const std::vector<kinematics::Observation>& obs) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
+  c /= static_cast<double>(idx.size());
+  if (idx.size() < 4) return c;
+  const auto m = static_cast<Eigen::Index>(idx.size());
+  Eigen::MatrixXd a(m, 3);
+  Eigen::VectorXd b(m);
+  for (Eigen::Index row = 0; row < m; ++row) {
+    const Eigen::Vector3d d = obs[static_cast<std::size_t>(idx[static_cast<std::size_t>(row)])].cut.nominal_point_mm - c;
+    a.row(row) << d.x(), d.y(), 1.0;
+    b(row) = -(d.x() * d.x() + d.y() * d.y());
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  if (!(sv(2) > 1e-6 * sv(0))) return c;  // collinear points: no circle
+  const Eigen::Vector3d def = svd.solve(b);
+  const Eigen::Vector3d centre = c + Eigen::Vector3d(-0.5 * def(0), -0.5 * def(1), 0.0);
+  std::vector<double> phi;
+  for (auto i : idx) {
+    const Eigen::Vector3d d = obs[static_cast<std::size_t>(i)].cut.nominal_point_mm - centre;
+    phi.push_back(std::atan2(d.y(), d.x()));
+  }
+  std::sort(phi.begin(), phi.end());
+  double gap = phi.front() + 2.0 * kPi - phi.back();
+  for (std::size_t k = 1; k < phi.size(); ++k) gap = std::max(gap, phi[k] - phi[k - 1]);
+  return gap <= 2.0 * kPi / 3.0 ? centre : c;
 }
 
 // Distinct azimuths among `phi` (rad; within 1e-6 rad, across the +-pi seam too): a profile probed
@@ -155,20 +190,17 @@ bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kma
   return true;
 }
 
-// Harmonics 1..kmax of the gap around one circular profile (azimuth phi about its centroid, part
-// Z): least squares on [1, cos k phi, sin k phi], so that unevenly spaced azimuths (hits left out
-// symmetrically, a tilted hole seen about Z) keep the mean and the orders apart; a DFT's sums
-// assume equal spacing. A gap that moves the centroid off the circle's centre still leaks between
-// orders. kmax: the most orders, up to min(max_harmonic, distinct azimuths / 2 - 1), that FitOrders
+// Harmonics 1..kmax of the gap around one circular profile (azimuth phi about its centre,
+// ProfileCentre, part Z): least squares on [1, cos k phi, sin k phi], so that unevenly spaced
+// azimuths (hits left out, a tilted hole seen about Z) keep the mean and the orders apart; a
+// DFT's sums assume equal spacing. kmax: the most orders, up to min(max_harmonic, distinct azimuths / 2 - 1), that FitOrders
 // accepts (a tilted hole probed at two levels has its azimuths in close pairs). energy = (a, b)
 // C^-1 (a, b)^T, C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s: m A^2 / 2 and
 // A / (s sqrt(2 / m)) on m equally spaced points. Appended to *all.
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
                       const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0, double s,
                       int max_harmonic, std::vector<HarmonicGap>* all) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (auto i : idx) c += obs[static_cast<std::size_t>(i)].cut.nominal_point_mm;
-  c /= static_cast<double>(idx.size());
+  const Eigen::Vector3d c = ProfileCentre(idx, obs);
   if (!IsCircularProfile(idx, obs, c)) return;
   std::vector<double> phi(idx.size());
   Eigen::VectorXd y(static_cast<Eigen::Index>(idx.size()));

@@ -131,6 +131,41 @@ TEST(Diagnosis, ProfileWithPointsLeftOutKeepsItsMeanOutOfTheHarmonics) {
   }
 }
 
+// Two adjacent hits (at 22.5 and 45 deg) missing from a 16-hit circle of radius 100 mm, gap
+// 2 cos(2 phi) + 1 sin(3 phi) um. Truth: order 2 reads 2 um at 0 deg, order 3 1 um at 90 deg,
+// the others 0 (to 1e-9). About the centroid of the 14 hits (14 mm off the centre) their radii
+// spread by 28 % and the profile was skipped as not circular: no harmonic at all (measured).
+TEST(Diagnosis, ProfileWithAdjacentHitsMissingIsTakenAboutItsCircle) {
+  const Fixture f = Make();
+  testpieces::MeasuredObservations mo;
+  mo.feature_names = {"S1"};
+  std::vector<double> phis;
+  for (int j = 0; j < 16; ++j) {
+    if (j == 1 || j == 2) continue;
+    kinematics::Observation o;
+    phis.push_back(j * M_PI / 8.0);
+    o.cut.nominal_point_mm = Eigen::Vector3d(30.0 + 100.0 * std::cos(phis.back()), -20.0 + 100.0 * std::sin(phis.back()), 50.0);
+    mo.observations.push_back(o);
+  }
+  Eigen::VectorXd gap(static_cast<Eigen::Index>(phis.size()));
+  for (std::size_t i = 0; i < phis.size(); ++i)
+    gap(static_cast<Eigen::Index>(i)) = 2.0 * std::cos(2.0 * phis[i]) + std::sin(3.0 * phis[i]);
+  DiagnosisResult out;
+  diagnosis_internal::SummariseGap(f.machine, mo, gap, 1.0, DiagnosisOptions{}, &out);
+  ASSERT_GE(out.harmonics.size(), 3u);
+  for (const auto& h : out.harmonics) {
+    if (h.order == 2) {
+      EXPECT_NEAR(h.amplitude_um, 2.0, 1e-9);
+      EXPECT_NEAR(h.phase_deg, 0.0, 1e-6);
+    } else if (h.order == 3) {
+      EXPECT_NEAR(h.amplitude_um, 1.0, 1e-9);
+      EXPECT_NEAR(h.phase_deg, 90.0, 1e-6);
+    } else {
+      EXPECT_LT(h.amplitude_um, 1e-9) << "order " << h.order;
+    }
+  }
+}
+
 // A hole probed at two levels, 8 hits each every 45 deg, the second level's azimuths 0.5 deg on
 // (a tilted hole seen about Z), gap 1.5 cos(3 phi) um. Truth: 16 azimuths in close pairs hold
 // orders 1 to 3 (8 directions apart), not 7: order 3 reads 1.5 um, orders 1 and 2 zero; a fit of
@@ -158,8 +193,8 @@ TEST(Diagnosis, HoleProbedAtTwoLevelsKeepsItsFirstOrders) {
 
 // "Where it lies": the C harmonics of each circular profile, the groups by operation and by A
 // index, recomputed here from their definitions on the diagnosis's own gap (truth: the
-// definitions, the harmonics by a Householder least squares; tolerance 1e-9 um: fits and sums of
-// ~50 terms of ~10 um in another order).
+// definitions, the profile's circle and harmonics by Householder least squares; tolerance 1e-9
+// um: fits and sums of ~50 terms of ~10 um in another order).
 TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine,
@@ -182,6 +217,28 @@ TEST(Diagnosis, WhereTheGapLiesFollowsItsDefinitions) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (auto i : idx) c += obs[i].cut.nominal_point_mm;
     c /= static_cast<double>(idx.size());
+    // The profile's centre: the algebraic circle x^2 + y^2 + D x + E y + F = 0 through its
+    // nominal points (Householder QR here), kept when its azimuths leave no gap above 120 deg.
+    {
+      Eigen::MatrixXd A(static_cast<Eigen::Index>(idx.size()), 3);
+      Eigen::VectorXd rhs(A.rows());
+      for (std::size_t row = 0; row < idx.size(); ++row) {
+        const Eigen::Vector3d v = obs[idx[row]].cut.nominal_point_mm - c;
+        A.row(static_cast<Eigen::Index>(row)) << v.x(), v.y(), 1.0;
+        rhs(static_cast<Eigen::Index>(row)) = -(v.x() * v.x() + v.y() * v.y());
+      }
+      const Eigen::Vector3d def = A.householderQr().solve(rhs);
+      const Eigen::Vector3d circle = c + Eigen::Vector3d(-0.5 * def(0), -0.5 * def(1), 0.0);
+      std::vector<double> az;
+      for (auto i : idx) {
+        const Eigen::Vector3d v = obs[i].cut.nominal_point_mm - circle;
+        az.push_back(std::atan2(v.y(), v.x()));
+      }
+      std::sort(az.begin(), az.end());
+      double widest = az.front() + 2.0 * M_PI - az.back();
+      for (std::size_t k = 1; k < az.size(); ++k) widest = std::max(widest, az[k] - az[k - 1]);
+      if (widest <= 2.0 * M_PI / 3.0) c = circle;
+    }
     // Truth: least squares of the gap on [1, cos k phi, sin k phi], k = 1..kmax (the profile's
     // orders), by Householder QR; on equally spaced azimuths it is the DFT 2/m sum r e^{i k phi}.
     std::set<long long> azimuths;  // distinct to 1e-6 rad
