@@ -408,7 +408,7 @@ TEST(ProbeArtifacts, ParameterEquivalentNeedsTheMapsGridAndKnownNames) {
 // The linear axes' squareness (table_poses.h): touches simulated through the whole chain
 // (SimulateTouch, 3 mm stylus) of a table with location errors and squareness of 15, -12 and
 // 10 urad. Noise-free, the fit returns the squareness to 0.05 urad (first order over the 300 mm
-// volume: (50 urad)^2 x 300 mm is 1e-6 um) and the maps the gauged location errors to 0.01 um /
+// volume: (50 urad)^2 x 300 mm is 7.5e-4 um) and the maps the gauged location errors to 0.01 um /
 // urad (measured 0.004); without the squareness columns the maps take the shear in (measured:
 // 10 um / urad at worst). With 0.3 um touches the squareness lies within 3 u.
 std::vector<ProbeTouch> PaChainTouches(const MachineModel& m, const ErrorState& truth, double sigma_um, std::uint64_t seed) {

@@ -191,9 +191,11 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
       a.block<1, 3>(k, 6 * p + 3) = 1e-3 * t.contact_mm.cross(nm).transpose();
     }
     a(k, 6 * np + touch_face[k]) = 1.0;
-    for (int l = 0; l < nl; ++l)
-      a(k, 6 * np + nf + l) = -1e-3 * g.normal.dot(PoseLinearColumn(model, &linear, linear_active->coefficients[l], t,
-                                                                    options.probe_radius_mm));
+    for (int l = 0; l < nl; ++l) {  // um per display unit of the error (urad for squareness)
+      const int c = linear_active->coefficients[l];
+      a(k, 6 * np + nf + l) = -1e3 / linear.coefficient_info(c).display_per_internal *
+                              g.normal.dot(PoseLinearColumn(model, &linear, c, t, options.probe_radius_mm));
+    }
     if (t.u_um > 0.0) w(k) = 1.0 / t.u_um;
   }
   fit.weighted = touches.size() > 0 && touches[0].u_um > 0.0;
@@ -212,6 +214,7 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
   while (rank < sv.size() && sv(rank) > cut) ++rank;
   fit.rank = rank;
   fit.dof = n - rank;
+  if (fit.dof <= 0 && nl > 0) return PoseWithoutLinearErrors(model, artifacts, touches, options);
   if (fit.dof <= 0) {
     return Status(StatusCode::kTooFewPoints, std::to_string(n) + " touches determine only " +
                                                  std::to_string(rank) + " pose and face unknowns");

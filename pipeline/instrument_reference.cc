@@ -61,6 +61,7 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     out.not_identifiable = file->not_identifiable;
     out.not_separable = file->not_separable;
     out.map_u = file->map_u;
+    out.map_undetermined = file->map_undetermined;
     TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, out, path));
     TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, file->errors_yaml, path + " (its errors_yaml)", &out));
   }
@@ -95,8 +96,10 @@ Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const Ins
   out.map_entries = static_cast<int>(report->result.maps.entries.size());
   out.not_identifiable = report->result.maps.not_identifiable;
   out.parameters = report->result.poses.linear_errors;
-  for (const auto& e : report->result.maps.entries)
+  for (const auto& e : report->result.maps.entries) {
     if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
+    if (!e.identifiable) out.map_undetermined.push_back(e.coefficient);
+  }
   TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
   IrSetMapCovariance(report->result.maps, &out);
   return out;

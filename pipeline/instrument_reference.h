@@ -77,6 +77,7 @@ struct InstrumentReference {
   // was identified here (probe_artifacts); empty otherwise (map_u alone, correlations unknown).
   Eigen::MatrixXd map_covariance;
   std::vector<std::string> not_identifiable;  // map entries it cannot determine (written as 0)
+  std::vector<std::string> map_undetermined;  // the same, as coefficient names of `maps`
   std::vector<std::string> not_separable;     // ballbar: families the maps carry no component of
 };
 

@@ -78,7 +78,7 @@ Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const I
   kinematics::ErrorState prior = *ref.maps;
   auto active = kinematics::ActivateParameters(setup.machine, &prior, names);
   if (!active.ok()) {
-    *how = "as measured (their u name no coefficient of the maps: " + active.status().message() + ")";
+    *how = "as measured (the update cannot be set up: " + active.status().message() + ")";
     return *ref.maps;
   }
   const bool known = options.noise_um > 0.0, neighbours = piece.neighbour_sigma_um > 0.0;
@@ -115,14 +115,18 @@ struct MapsComparison {
   std::vector<std::string> unseen; // no number from the maps, one from the piece: fitted from it
 };
 
+// The entries the instrument determined (all but map_undetermined, whatever their u) and their
+// full covariance, or their u alone, or neither (u unknown).
 kinematics::MapEquivalentInput EquivalentInput(const InstrumentReference& ref) {
   kinematics::MapEquivalentInput in;
-  if (ref.map_u.empty()) return in;  // u unknown: every entry taken as determined
   const int n = ref.maps->num_coefficients();
-  in.determined.assign(n, false);
+  in.determined.assign(n, true);
+  for (const std::string& name : ref.map_undetermined)
+    if (auto c = ref.maps->FindCoefficient(name)) in.determined[*c] = false;
+  if (ref.map_u.empty()) return in;
   std::vector<double> u(n, 0.0);
   for (const auto& [name, u_k] : ref.map_u)
-    if (auto c = ref.maps->FindCoefficient(name)) in.determined[*c] = true, u[*c] = u_k;
+    if (auto c = ref.maps->FindCoefficient(name)) u[*c] = u_k;
   if (ref.map_covariance.rows() == n) in.covariance = ref.map_covariance;
   else in.u = std::move(u);
   return in;

@@ -76,9 +76,9 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
   sub->add_option("--reference-instrument", r->reference_instrument,
                   "--reference is this instrument's file, identified first: datum_ball (tpcal ballpos v1: the piece "
                   "is compared with it parameter by parameter), probe_artifacts (tpcal probepts v1) or ballbar "
-                  "(tpcal ballbar v1; needs --reference-setup): error maps of the rotary axes, no parameter in "
-                  "common with the piece, compared through the piece simulated from them; the gap is diagnosed "
-                  "against the instrument");
+                  "(tpcal ballbar v1; needs --reference-setup): error maps of the rotary axes (probe_artifacts: "
+                  "compared with the piece through their parameter equivalent and its squareness; ballbar: "
+                  "through the piece simulated from them only); the gap is diagnosed against the instrument");
   sub->add_option("--reference-setup", r->reference_setup,
                   "with --reference-instrument probe_artifacts: its artifacts (tpcal.artifacts/1; default seed 000's "
                   "three columns); ballbar: its installations (tpcal.ballbar_setup/1, required)");
@@ -115,8 +115,8 @@ Command RegisterDiagnose(CLI::App& app) {
       "the gap is diagnosed against the instrument's errors updated by the piece within the instrument's u.\n"
       "--reference PROBEPTS.csv --reference-instrument probe_artifacts [--reference-setup ARTIFACTS.yaml], or\n"
       "--reference BALLBAR.csv --reference-instrument ballbar --reference-setup SETUP.yaml: the rotary axes' error\n"
-      "maps are identified and the gap is diagnosed against them as measured (no parameter in common: the table\n"
-      "compares none and says so).\n"
+      "maps are identified and the gap is diagnosed against them (probe_artifacts: compared parameter by parameter\n"
+      "through the maps' parameter equivalent and the squareness it fits; ballbar: no parameter, the table says why).\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   CLI::Option* testpiece = AddDiagnoseOptions(sub, args.get());
   AddValidateOptions(sub, &args->validate);

@@ -151,7 +151,7 @@ Command RegisterIdentify(CLI::App& app) {
                   "--instrument datum_ball` writes such a file.\n"
                   "probe_artifacts: POINTS holds touches on artifacts fixed to an A/C table at indexed A x C "
                   "positions (seed 000); the table pose at every position (um, urad, relative to the reference "
-                  "pose), then the error maps of the A axis (E_XA..E_CA over A) and of the C axis (E_XC..E_CC over "
+                  "pose) with the linear axes' squareness (urad, written with the maps), then the error maps of the A axis (E_XA..E_CA over A) and of the C axis (E_XC..E_CC over "
                   "C at every A, zero mean over C) with u (k = 1) and 95 % intervals; what the plan cannot "
                   "determine is named. `tpcal simulate --instrument probe_artifacts` writes such a file.\n"
                   "ballbar: POINTS holds double-ball-bar length changes (um) of the installations of --setup "

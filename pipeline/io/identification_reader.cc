@@ -82,9 +82,13 @@ std::vector<std::string> StringsOf(const json& j, const char* key, const std::st
   return out;
 }
 
-// The u of each map entry that has one: {"coefficient": "E_XC.n3", "u": 0.12, ...}.
+// The u of each map entry that has one: {"coefficient": "E_XC.n3", "u": 0.12, ...}; the
+// coefficients of those marked "identifiable": false.
 void ReadMapU(const json& entries, IdentificationFile* out) {
   for (const json& e : entries) {
+    if (e.is_object() && e.contains("coefficient") && e["coefficient"].is_string() && e.contains("identifiable") &&
+        e["identifiable"].is_boolean() && !e["identifiable"].get<bool>())
+      out->map_undetermined.push_back(e["coefficient"].get<std::string>());
     if (!e.is_object() || !e.contains("coefficient") || !e["coefficient"].is_string() || !e.contains("u") ||
         !e["u"].is_number())
       continue;

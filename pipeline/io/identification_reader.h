@@ -34,6 +34,7 @@ struct IdentificationFile {
   std::vector<std::string> not_identifiable, not_separable;
   // The entries' standard uncertainties by coefficient ("coefficient", "u" > 0; display units).
   std::vector<std::pair<std::string, double>> map_u;
+  std::vector<std::string> map_undetermined;  // coefficients of the entries marked not identifiable
 };
 
 // Errors (kParseError naming `source`): not JSON (with the line of the fault), a schema other
