@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/internal/student_t.h"
 
 namespace tpcal::kinematics {
 namespace {
@@ -262,8 +263,8 @@ Result<TablePoseFit> FitTablePoses(const MachineModel& model, const ArtifactSet&
     e.identifiable = true;
     e.value = x(c);
     e.u = std::sqrt(cov(c, c));
-    e.ci95_low = e.value - 1.959963984540054 * e.u;
-    e.ci95_high = e.value + 1.959963984540054 * e.u;
+    e.ci95_low = e.value - internal::StudentTQuantile975(fit.dof) * e.u;  // as the maps' (t, the fit's dof)
+    e.ci95_high = e.value + internal::StudentTQuantile975(fit.dof) * e.u;
     fit.linear_errors.push_back(std::move(e));
   }
   return fit;

@@ -74,7 +74,9 @@ Result<std::string> ProbeErrorsYaml(const kinematics::MachineModel& m, const kin
       linear += " " + e.name + " (not identifiable, 0)";
       continue;
     }
-    TPCAL_RETURN_IF_ERROR(errors.SetParameter(m, e.name, e.unit == "um" ? e.value * 1e-3 : e.value * 1e-6));
+    TPCAL_RETURN_IF_ERROR(errors.SetParameter(m, e.name, 0.0));
+    const int c = *errors.FindCoefficient(e.name);
+    errors.set_coefficient(c, e.value / errors.coefficient_info(c).display_per_internal);
     linear += " " + e.name;
   }
   if (!linear.empty()) out += "# the linear axes' errors fitted with the table poses:" + linear + "\n";
