@@ -9,14 +9,13 @@
 //  * probe_artifacts (seed 000) or ballbar (seed 003): error maps of the rotary axes (error
 //    motions at the measured angles, tables), which no parameter of the piece's model names. The
 //    "sim" is the instrument's tpcal.errors/1 (what `identify --errors-out` writes: the maps,
-//    entries the instrument cannot determine at 0) on the piece's machine. When the piece agrees
-//    with the maps within their u and its noise (kinematics::PriorUpdate's conflict test at
-//    alpha, over the points the piece's own screen kept; u per node, their correlations not
-//    used), the maps are updated by the piece within their u, so a noisy instrument raises no
-//    alarm; when it does not, they are taken as measured (an update would absorb the departure,
-//    e.g. a withheld drift, into the hundreds of node values). The test is global: an effect
-//    must stand out over hundreds of degrees of freedom to keep the maps as measured, so a small
-//    one on top of noisy maps may be updated away (README: a 3 um drift on 1 um maps). The piece is identified with its own parameters and every point
+//    entries the instrument cannot determine at 0) on the piece's machine, as measured. Their own
+//    uncertainty enters the diagnosis's base model (DiagnosisOptions::reference_uncertainty):
+//    the directions along which the maps' covariance (the full one of a probing test identified
+//    here, else u per entry) moves the piece's deviations by more than its noise are fitted with
+//    the re-alignment, and what it adds below that is expected in the gap's tests, so a noisy
+//    instrument raises no alarm and a loose one leaves the piece less to say.
+//    The piece is identified with its own parameters and every point
 //    (its own screen would flag what its model lacks and the maps hold); the diagnosis screens
 //    against the maps. The piece's parameters are compared with the maps' parameter equivalent
 //    (kinematics/map_location_equivalent.h; probe_artifacts: with the linear axes' squareness it

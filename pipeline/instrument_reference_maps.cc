@@ -1,11 +1,11 @@
 #include "pipeline/instrument_reference_maps.h"
 
-#include <boost/math/distributions/fisher_f.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -30,7 +30,7 @@ std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
 }
 
 // The piece's observations without the single hits its own screen flagged as outliers: one dust
-// hit would fail the global test below by itself. Its patches stay: against its own model they
+// hit would pull the piece's fit on top of the maps. Its patches stay: against its own model they
 // may be what the maps hold (an error motion).
 std::vector<kinematics::Observation> UnflaggedObservations(const IdentifyStageResult& piece) {
   std::set<std::size_t> flagged;
@@ -43,64 +43,11 @@ std::vector<kinematics::Observation> UnflaggedObservations(const IdentifyStageRe
   return out;
 }
 
-// p of the conflict test: chi2 for a known noise (options.noise_um), else F(dof, nu) with the
-// neighbour sigma's nu degrees of freedom (an estimated sigma scatters too); NaN when untestable.
-double ConflictP(const kinematics::PriorUpdate& up, const IdentifyStageResult& piece, const DiagnosisOptions& options) {
-  if (options.noise_um > 0.0 || !(piece.neighbour_sigma_um > 0.0 && piece.neighbour_sigma_dof > 30.0) ||
-      std::isnan(up.conflict_p))
-    return up.conflict_p;
-  const boost::math::fisher_f f(up.conflict_dof, piece.neighbour_sigma_dof);
-  return boost::math::cdf(boost::math::complement(f, std::max(0.0, up.conflict_chi2 / up.conflict_dof)));
-}
-
 // The piece's noise: given, else from its neighbours, else its identification's residual (um).
 double PieceSigma(const IdentifyStageResult& piece, const DiagnosisOptions& options) {
   if (options.noise_um > 0.0) return options.noise_um;
   if (piece.neighbour_sigma_um > 0.0) return piece.neighbour_sigma_um;
   return std::max(piece.identification.sigma_um, 1e-3);
-}
-
-// The maps updated by the piece within their u when the piece agrees with them (conflict p >=
-// alpha), as measured otherwise; `how` says which, with the test. The instrument's constant
-// errors (ref.parameters) move within their u too. `free`: parameters the instrument cannot see,
-// weighed by the piece alone in the update and its test (at zero in the maps as measured).
-Result<kinematics::ErrorState> MapsForThePiece(const LoadedPiece& setup, const InstrumentReference& ref,
-                                               const IdentifyStageResult& piece, const DiagnosisOptions& options,
-                                               const std::vector<std::string>& free, std::string* how) {
-  *how = "as measured (their u unknown)";
-  if (ref.map_u.empty()) return *ref.maps;
-  std::vector<std::string> names;
-  std::vector<double> u;
-  for (const auto& [name, u_k] : ref.map_u) names.push_back(name), u.push_back(u_k);
-  for (const auto& p : ref.parameters)
-    if (p.identifiable && p.u > 0.0) names.push_back(p.name), u.push_back(p.u);
-  for (const std::string& name : free) names.push_back(name), u.push_back(0.0);  // the piece's alone
-  kinematics::ErrorState prior = *ref.maps;
-  auto active = kinematics::ActivateParameters(setup.machine, &prior, names);
-  if (!active.ok()) {
-    *how = "as measured (the update cannot be set up: " + active.status().message() + ")";
-    return *ref.maps;
-  }
-  const bool known = options.noise_um > 0.0, neighbours = piece.neighbour_sigma_um > 0.0;
-  const double sigma_um = PieceSigma(piece, options);
-  auto up = kinematics::UpdateWithinPrior(setup.machine, prior, *active, u, UnflaggedObservations(piece), sigma_um);
-  if (!up.ok()) return up.status();
-  const double p = ConflictP(*up, piece, options);
-  const std::string test =
-      fmt::format("chi2 {:.0f} on {} at noise {:.2f} um ({}), p = {:.2g}", up->conflict_chi2, up->conflict_dof, sigma_um,
-                  known ? "given" : neighbours ? fmt::format("from neighbours, {:.0f} dof", piece.neighbour_sigma_dof)
-                                               : "the identification's residual",
-                  p);
-  if (std::isnan(p)) {
-    *how = "as measured (the piece cannot test them: " + test + ")";
-    return *ref.maps;
-  }
-  if (p < options.alpha) {
-    *how = "as measured (the piece departs from them beyond their u and its noise: " + test + ")";
-    return *ref.maps;
-  }
-  *how = "updated by the piece within their u (the piece agrees with them: " + test + ")";
-  return up->posterior;
 }
 
 // The maps' parameter equivalent on the piece's parameters (kinematics/map_location_equivalent.h),
@@ -211,6 +158,35 @@ MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& 
   return out;
 }
 
+// The maps' own uncertainty for the diagnosis's base model (DiagnosisOptions::
+// reference_uncertainty): their determined entries with their full covariance (or their u
+// alone) and the instrument's constant errors with their u; none when the u are unknown.
+std::optional<ReferenceUncertainty> MapsUncertainty(const InstrumentReference& ref, double noise_um) {
+  if (ref.map_u.empty()) return std::nullopt;
+  ReferenceUncertainty out;
+  out.noise_um = noise_um;
+  std::vector<int> index;  // into ref.maps' coefficients, -1 for a constant error
+  std::vector<double> u;
+  const std::set<std::string> undetermined(ref.map_undetermined.begin(), ref.map_undetermined.end());
+  for (const auto& [name, u_k] : ref.map_u) {
+    auto c = ref.maps->FindCoefficient(name);
+    if (!c || undetermined.contains(name) || !(u_k > 0.0)) continue;
+    out.names.push_back(name), index.push_back(*c), u.push_back(u_k);
+  }
+  for (const auto& p : ref.parameters)
+    if (p.identifiable && p.u > 0.0) out.names.push_back(p.name), index.push_back(-1), u.push_back(p.u);
+  const auto m = static_cast<Eigen::Index>(out.names.size());
+  const bool full = ref.map_covariance.rows() == ref.maps->num_coefficients();
+  out.covariance = Eigen::MatrixXd::Zero(m, m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const int a = index[static_cast<std::size_t>(i)], b = index[static_cast<std::size_t>(j)];
+      if (i == j) out.covariance(i, j) = u[static_cast<std::size_t>(i)] * u[static_cast<std::size_t>(i)];
+      else if (full && a >= 0 && b >= 0) out.covariance(i, j) = ref.map_covariance(a, b);
+    }
+  return out;
+}
+
 // "compared through their parameter equivalent (...)", or why no parameter is compared.
 std::string ComparisonNote(const MapsComparison& c) {
   if (!c.made) return "no parameter in common with the piece's model (" + c.why + "): compared by simulation only";
@@ -233,8 +209,10 @@ std::string ComparisonNote(const MapsComparison& c) {
 // The piece's own outlier screen flags what its model lacks and the maps may hold (an error
 // motion): the piece is identified with every point and the diagnosis screens against the maps.
 // The caller's identification serves when its screen flagged nothing. Where the maps have a
-// parameter equivalent, the piece's parameters the maps cannot see are fitted from the piece
-// (free in the maps' update), and those it disagrees on are refitted on top of the maps as measured.
+// parameter equivalent, the piece's parameters the maps cannot see are fitted from the piece and
+// those it disagrees on are refitted on top of the maps. The gap is taken against the maps as
+// measured, the directions their own uncertainty moves the piece along fitted in the base model
+// (DiagnosisOptions::reference_uncertainty): a loose instrument's noise is not blamed on the piece.
 Result<DiagnosisResult> DiagnoseAgainstMaps(const LoadedPiece& setup, const PointSet& measured, const InstrumentReference& ref,
                                             const DiagnosisOptions& options, const IdentifyStageResult* identified) {
   const bool unscreened = identified != nullptr && identified->outliers.empty() && identified->local_defects.empty();
@@ -243,15 +221,15 @@ Result<DiagnosisResult> DiagnoseAgainstMaps(const LoadedPiece& setup, const Poin
   auto piece = PieceForReference(setup, measured, {}, ref.source, keep_all, unscreened ? identified : nullptr);
   if (!piece.ok()) return piece.status();
   MapsComparison cmp = CompareMaps(setup, ref, *piece, options);
-  std::string how;
-  auto maps = cmp.held.empty() ? MapsForThePiece(setup, ref, *piece, options, cmp.unseen, &how)
-                               : Result<kinematics::ErrorState>(*ref.maps);
-  if (!maps.ok()) return maps.status();
-  if (!cmp.held.empty()) how = "as measured";
+  std::optional<ReferenceUncertainty> uncertainty = MapsUncertainty(ref, PieceSigma(*piece, options));
+  const std::string how = uncertainty ? "as measured, the directions their u moves the piece along fitted with the "
+                                        "re-alignment (the base model says how many)"
+                                      : "as measured (their u unknown)";
   piece->outliers.clear(), piece->local_defects.clear();
-  DiagnosisOptions d_options = OptionsForReference(options, ref, std::move(*maps));
+  DiagnosisOptions d_options = OptionsForReference(options, ref, *ref.maps);
   d_options.reference_free.assign(cmp.held.begin(), cmp.held.end());
   d_options.reference_free.insert(d_options.reference_free.end(), cmp.unseen.begin(), cmp.unseen.end());
+  d_options.reference_uncertainty = std::move(uncertainty);
   auto d = DiagnoseIdentified(setup.piece, setup.machine, *piece, measured, d_options);
   if (!d.ok()) return d.status();
   ReferenceAgreement agreement = cmp.made ? std::move(cmp.agreement) : ReferenceAgreement{};

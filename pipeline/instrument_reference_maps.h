@@ -25,7 +25,7 @@ DiagnosisOptions OptionsForReference(const DiagnosisOptions& options, const Inst
                                      kinematics::ErrorState reference);
 
 // DiagnoseAgainstInstrument for a reference with maps. Errors: the piece identification's, the
-// maps update's, the diagnosis's.
+// diagnosis's.
 Result<DiagnosisResult> DiagnoseAgainstMaps(const LoadedPiece& setup, const PointSet& measured,
                                             const InstrumentReference& ref, const DiagnosisOptions& options,
                                             const IdentifyStageResult* identified);

@@ -115,8 +115,9 @@ Command RegisterDiagnose(CLI::App& app) {
       "the gap is diagnosed against the instrument's errors updated by the piece within the instrument's u.\n"
       "--reference PROBEPTS.csv --reference-instrument probe_artifacts [--reference-setup ARTIFACTS.yaml], or\n"
       "--reference BALLBAR.csv --reference-instrument ballbar --reference-setup SETUP.yaml: the rotary axes' error\n"
-      "maps are identified and the gap is diagnosed against them (probe_artifacts: compared parameter by parameter\n"
-      "through the maps' parameter equivalent and the squareness it fits; ballbar: no parameter, the table says why).\n"
+      "maps are identified and the gap is diagnosed against them, the directions their own uncertainty moves the\n"
+      "piece along fitted (probe_artifacts: compared parameter by parameter through the maps' parameter equivalent\n"
+      "and the squareness it fits; ballbar: no parameter, the table says why).\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   CLI::Option* testpiece = AddDiagnoseOptions(sub, args.get());
   AddValidateOptions(sub, &args->validate);

@@ -85,6 +85,15 @@ struct SlotDesign;  // kinematics/slot_linearisation.h
 
 namespace tpcal::pipeline {
 
+// The reference's own uncertainty (DiagnosisOptions::reference_uncertainty): the covariance of
+// some of its coefficients, display units (um, urad; k = 1), and the piece's noise it is weighed
+// against.
+struct ReferenceUncertainty {
+  std::vector<std::string> names;  // coefficients of DiagnosisOptions::reference
+  Eigen::MatrixXd covariance;      // names.size() square
+  double noise_um = 0.0;           // the piece's CMM noise sigma (um), > 0
+};
+
 struct DiagnosisOptions {
   std::vector<std::string> base_parameters;     // empty: testpieces::DefaultParameterSet(piece, machine)
   // Reference mode: the "sim" is these machine errors (e.g. from a probing test); the base
@@ -94,6 +103,16 @@ struct DiagnosisOptions {
   // With `reference`: these parameters are refitted on top of it, the rest held (those a piece
   // and an instrument disagree on, reference_agreement.h); the gap with all held is kept too.
   std::vector<std::string> reference_free;
+  // With `reference`: what it does not know. Every direction of the piece's deviations along
+  // which its covariance moves them with a variance above reference_nuisance_ratio * noise_um^2
+  // is fitted in the base model (a nuisance column, not reported); the variance it adds along the
+  // others is expected beside the noise's in the excess, group and candidate tests. So no
+  // candidate and no group is credited with the reference's own error. 1: measured on 120
+  // effect-free turning pieces against 1 um probing tests (README), 0.25 raised 15 % false alarms
+  // (so many columns bias the neighbour sigma low), 1 raised 5.8 %, 4 raised 25 % (the variance
+  // left is too large for the tests' corrections by its mean).
+  std::optional<ReferenceUncertainty> reference_uncertainty;
+  double reference_nuisance_ratio = 1.0;
   std::string reference_name = "reference";     // for base_model in the report
   std::string reference_path;                   // the file of `reference`: errors it causes are located there
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict

@@ -8,6 +8,7 @@
 
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis/diagnosis_candidates.h"
+#include "pipeline/diagnosis/diagnosis_reference_nuisance.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
@@ -34,9 +35,27 @@ Result<std::shared_ptr<const kinematics::SlotDesign>> PassDesign(
   return std::make_shared<const kinematics::SlotDesign>(std::move(*lin));
 }
 
-// The linear fit of one pass on fit->design: the design [base columns, alignment], the deviation
-// to explain, its basis and the fitted coefficients.
-Status FitPass(std::span<const kinematics::Observation> obs, const std::vector<int>& base_coefficients,
+// Appends to X the directions the reference's uncertainty moves the deviations along
+// (diagnosis_reference_nuisance.h), when the options give it.
+Status AddReferenceNuisance(const kinematics::MachineModel& machine, std::span<const kinematics::Observation> obs,
+                            const DiagnosisOptions& options, BaseFit* fit, Eigen::MatrixXd* X) {
+  if (!options.reference || !options.reference_uncertainty) return {};
+  auto nuisance = ReferenceNuisanceColumns(machine, fit->errors, obs, *X, *options.reference_uncertainty,
+                                           options.reference_nuisance_ratio);
+  if (!nuisance.ok()) return nuisance.status();
+  const Eigen::MatrixXd& N = nuisance->columns;
+  fit->nuisance_columns = static_cast<int>(N.cols());
+  fit->reference_var_um2 = nuisance->remaining.rowwise().squaredNorm();
+  fit->reference_remaining = std::move(nuisance->remaining);
+  X->conservativeResize(Eigen::NoChange, X->cols() + N.cols());
+  X->rightCols(N.cols()) = N;
+  return {};
+}
+
+// The linear fit of one pass on fit->design: the design [base columns, alignment, the reference's
+// nuisance directions], the deviation to explain, its basis and the fitted coefficients.
+Status FitPass(const kinematics::MachineModel& machine, std::span<const kinematics::Observation> obs,
+               const DiagnosisOptions& options, const std::vector<int>& base_coefficients,
                const Eigen::VectorXd* reference_dev_um, BaseFit* fit) {
   const auto n = static_cast<Eigen::Index>(obs.size());
   const kinematics::SlotDesign& design = *fit->design;
@@ -45,6 +64,7 @@ Status FitPass(std::span<const kinematics::Observation> obs, const std::vector<i
   Eigen::MatrixXd X0(n, fit->q_fit + 6);
   if (fit->q_fit > 0) X0.leftCols(fit->q_fit) = *J_base;
   X0.rightCols(6) = design.lin.J_dev_alignment;
+  TPCAL_RETURN_IF_ERROR(AddReferenceNuisance(machine, obs, options, fit, &X0));
   fit->y = design.lin.measured_dev_um - design.lin.predicted_dev_um;
   if (reference_dev_um) fit->y -= *reference_dev_um;
   fit->basis = MakeBasis(X0, ColumnNorms(X0), kBaseRankTolerance, true);
@@ -77,10 +97,16 @@ void MoveToFittedBase(BaseFit* fit) {
 // " (fixed machine errors, re-alignment fitted)", or with parameters refitted on the reference
 // " (fixed machine errors except E_X0C, E_A0C refitted; re-alignment fitted)".
 std::string ReferenceHeld(const BaseFit& fit, const DiagnosisOptions& options) {
-  if (fit.q_fit == 0 || options.reference_free.empty()) return " (fixed machine errors, re-alignment fitted)";
+  const std::string nuisance =
+      fit.nuisance_columns == 0 ? ""
+                                : "; " + std::to_string(fit.nuisance_columns) +
+                                      (fit.nuisance_columns == 1 ? " direction" : " directions") +
+                                      " its own uncertainty moves the piece along, fitted";
+  if (fit.q_fit == 0 || options.reference_free.empty())
+    return " (fixed machine errors, re-alignment fitted" + nuisance + ")";
   std::string names;
   for (const auto& n : options.reference_free) names += (names.empty() ? "" : ", ") + n;
-  return " (fixed machine errors except " + names + " refitted; re-alignment fitted)";
+  return " (fixed machine errors except " + names + " refitted; re-alignment fitted" + nuisance + ")";
 }
 
 }  // namespace
@@ -127,7 +153,7 @@ Result<BaseFit> FitBaseModel(const testpieces::TestPiece& piece, const kinematic
     if (!design.ok())  // linearised at the reference errors: too large ones are that file's fault
       return options.reference ? kinematics::AtErrorsFile(design.status(), options.reference_path) : design.status();
     fit.design = std::move(*design);
-    TPCAL_RETURN_IF_ERROR(FitPass(obs, base_coefficients, reference_dev_um, &fit));
+    TPCAL_RETURN_IF_ERROR(FitPass(machine, obs, options, base_coefficients, reference_dev_um, &fit));
     if (pass == 0 && !reference_mode && NeedsSecondPass(fit)) passes = 2;
     if (pass + 1 < passes) MoveToFittedBase(&fit);
   }

@@ -35,7 +35,14 @@ struct BaseFit {
   kinematics::ErrorState errors;   // linearisation point: the base at zero, re-linearised at the fit, or the reference
   kinematics::ActiveSet active;    // the base coefficients of `errors`
   int q_fit = 0;                   // fitted base columns (0 in reference mode)
-  Basis basis;                     // of the design [base columns, 6 alignment columns]
+  int nuisance_columns = 0;        // the reference's uncertainty directions, last in the design
+  // Per point: the variance the reference's uncertainty adds to the gap off every fitted column
+  // (DiagnosisOptions::reference_uncertainty; empty without it), expected beside the noise's.
+  Eigen::VectorXd reference_var_um2;
+  // The same as a factor: that variance's covariance is reference_remaining reference_remaining^T
+  // (n x r, um; n x 0 without).
+  Eigen::MatrixXd reference_remaining;
+  Basis basis;                     // of the design [base columns, 6 alignment columns, nuisance columns]
   Eigen::VectorXd y;               // per point: measured - predicted deviation (- the reference's), um
   Eigen::VectorXd coef, u;         // fitted correction at `errors` and its uncertainty, per design column
   std::vector<bool> identifiable;  // per design column

@@ -69,14 +69,18 @@ double ChiSquareZ(double x, double k) {
   return (std::cbrt(x / k) - (1.0 - v)) / std::sqrt(v);
 }
 
-void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const std::vector<double>& t_s, double sigma,
-                double z_out, std::vector<GroupGap>* out, std::vector<std::string>* standing, const std::string& prefix) {
+// Per group: its statistics, and its excess over noise of sigma and the variance `expected_um2`
+// (per point; empty: none) adds.
+void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen::VectorXd& expected_um2,
+                const std::vector<double>& t_s, double sigma, double z_out, std::vector<GroupGap>* out,
+                std::vector<std::string>* standing, const std::string& prefix) {
   for (const auto& [name, idx] : groups) {
     GroupGap g;
     g.group = name;
     g.n_points = static_cast<int>(idx.size());
-    double ss = 0, sum = 0, tsum = 0;
+    double ss = 0, sum = 0, tsum = 0, expected = 0;
     for (auto i : idx) {
+      if (expected_um2.size() == r.size()) expected += expected_um2(i);
       ss += r(i) * r(i);
       sum += r(i);
       tsum += t_s[static_cast<std::size_t>(i)];
@@ -86,7 +90,7 @@ void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const std::
     g.rms_um = std::sqrt(ss / n);
     g.mean_um = sum / n;
     g.mean_t_s = tsum / n;
-    g.z = sigma > 0 ? ChiSquareZ(ss / (sigma * sigma), n) : 0.0;
+    g.z = sigma > 0 ? ChiSquareZ(std::max(0.0, ss - expected) / (sigma * sigma), n) : 0.0;
     g.stands_out = g.z > z_out;
     if (g.stands_out) standing->push_back(prefix + name);
     out->push_back(g);
@@ -273,12 +277,14 @@ void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinemati
 }  // namespace
 
 void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& mo,
-                  const Eigen::VectorXd& r0, double s, const DiagnosisOptions& options, DiagnosisResult* out) {
+                  const Eigen::VectorXd& r0, double s, const DiagnosisOptions& options, DiagnosisResult* out,
+                  const Eigen::VectorXd& reference_var_um2) {
   const GapGroups groups = GroupGapPoints(machine, mo);
   const double z = options.stand_out_z;
-  GroupStats(groups.by_feature, r0, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
-  GroupStats(groups.by_op, r0, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
-  GroupStats(groups.by_a, r0, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
+  const Eigen::VectorXd& v = reference_var_um2;
+  GroupStats(groups.by_feature, r0, v, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
+  GroupStats(groups.by_op, r0, v, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
+  GroupStats(groups.by_a, r0, v, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
   FitDrift(r0, groups.t_s, s, out);
   CircularHarmonics(groups.by_feature, mo.observations, r0, s, options.max_harmonic, out);
 }

@@ -413,6 +413,34 @@ TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
   }
 }
 
+// The reference's own uncertainty (DiagnosisOptions::reference_uncertainty). Truth: the piece is
+// cut by Table 2's errors, the reference holds them with dx_CR(0) 4 um off (noise 0.5 um, seed 13).
+// Known to 0.01 um the 4 um is the reference's error: refitting the location errors takes it
+// (location_errors, no nuisance direction: its variance 1e-4 um^2 times a column of norm^2 at
+// most n = 352 is at most 0.035 um^2, below sigma^2 = 0.25 um^2). Known to 4 um (variance 16 um^2
+// times that norm^2, far above 0.25) the same 4 um lies within what the reference knows: one
+// direction fitted, none.
+TEST(Diagnosis, ReferenceUncertaintyIsFittedNotBlamed) {
+  const Fixture f = Make();
+  kinematics::ErrorState off = Table2(f.machine);
+  const auto c = off.FindCoefficient("dx_CR(0)");
+  ASSERT_TRUE(c.has_value());
+  off.set_coefficient(*c, off.coefficient(*c) + 4.0 / off.coefficient_info(*c).display_per_internal);
+  auto sim = Simulate(f, Table2(f.machine), 0.5, 13);
+  ASSERT_TRUE(sim.ok());
+  for (const double u_um : {0.01, 4.0}) {
+    DiagnosisOptions o;
+    o.reference = off;
+    o.noise_um = 0.5;
+    o.reference_uncertainty = ReferenceUncertainty{{"dx_CR(0)"}, Eigen::MatrixXd::Constant(1, 1, u_um * u_um), 0.5};
+    auto d = Diagnose(f.piece, f.machine, sim->points, o);
+    ASSERT_TRUE(d.ok()) << d.status().message();
+    const bool loose = u_um > 1.0;
+    EXPECT_EQ(d->verdict.family, loose ? "none" : "location_errors") << u_um;
+    EXPECT_EQ(d->base_model.find("1 direction its own uncertainty") != std::string::npos, loose) << d->base_model;
+  }
+}
+
 // Point reference: the "sim" is a point file simulated from the same machine errors (another
 // placement and noise draw), the "real" the measured one. The gap is the difference of two
 // noise draws: RMS sigma sqrt(2) sqrt((n - 6) / n) (re-alignment fitted), verdict none.

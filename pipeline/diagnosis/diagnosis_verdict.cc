@@ -230,12 +230,13 @@ namespace {
 constexpr double kExcessRatio = 1.15;
 
 // p-value of "the base gap is noise of the neighbour sigma": F = (SSR / dof) / sigma^2 against
-// the MAD's effective degrees of freedom (0.37 n).
+// the MAD's effective degrees of freedom (0.37 n); SSR less what a reference's own uncertainty
+// adds (BaseFit::reference_var_um2).
 double ExcessPValue(const VerdictInputs& in, double sigma_um) {
   const auto n = static_cast<double>(in.gap.r.size());
   const double dof = n - in.fit.basis.rank;
   if (sigma_um <= 0 || dof <= 0) return 1.0;
-  const double f = (in.gap.ssr / dof) / (sigma_um * sigma_um);
+  const double f = (std::max(0.0, in.gap.ssr - in.fit.reference_var_um2.sum()) / dof) / (sigma_um * sigma_um);
   return FUpperTail(f, dof, 0.37 * n);
 }
 
@@ -269,7 +270,10 @@ void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
   }
   // The gap is that of the points kept: a local defect's points are left out, so what still stands
   // out lies elsewhere (a bent part flags patches and more).
-  const bool excess = out->excess_p_value < in.options.alpha && out->rms_um > kExcessRatio * out->neighbour_sigma_um;
+  const double n = static_cast<double>(in.gap.r.size());
+  const double rms_beyond_reference_um = std::sqrt(std::max(0.0, in.gap.ssr - in.fit.reference_var_um2.sum()) / n);
+  const bool excess =
+      out->excess_p_value < in.options.alpha && rms_beyond_reference_um > kExcessRatio * out->neighbour_sigma_um;
   if (!out->local_defects.empty() && out->standing_out.empty() && !excess) {
     v.family = "local_defect";
     v.name = DefectName(out->local_defects.front());
