@@ -160,7 +160,8 @@ MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& 
 
 // The maps' own uncertainty for the diagnosis's base model (DiagnosisOptions::
 // reference_uncertainty): their determined entries with their full covariance (or their u
-// alone) and the instrument's constant errors with their u; none when the u are unknown.
+// alone) and the instrument's constant errors with their u (their covariance with the maps is
+// not kept: the probing test reports u per constant error); none when the u are unknown.
 std::optional<ReferenceUncertainty> MapsUncertainty(const InstrumentReference& ref, double noise_um) {
   if (ref.map_u.empty()) return std::nullopt;
   ReferenceUncertainty out;
@@ -181,8 +182,8 @@ std::optional<ReferenceUncertainty> MapsUncertainty(const InstrumentReference& r
   for (Eigen::Index i = 0; i < m; ++i)
     for (Eigen::Index j = 0; j < m; ++j) {
       const int a = index[static_cast<std::size_t>(i)], b = index[static_cast<std::size_t>(j)];
-      if (i == j) out.covariance(i, j) = u[static_cast<std::size_t>(i)] * u[static_cast<std::size_t>(i)];
-      else if (full && a >= 0 && b >= 0) out.covariance(i, j) = ref.map_covariance(a, b);
+      if (full && a >= 0 && b >= 0) out.covariance(i, j) = ref.map_covariance(a, b);
+      else if (i == j) out.covariance(i, j) = u[static_cast<std::size_t>(i)] * u[static_cast<std::size_t>(i)];
     }
   return out;
 }

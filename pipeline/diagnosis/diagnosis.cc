@@ -33,6 +33,8 @@ Status DiagnosisOptions::Validate() const {
   if (!(reference_match_mm > 0)) return {StatusCode::kInvalidArgument, "diagnosis reference_match_mm must be > 0"};
   if (!(reference_nuisance_ratio > 0))
     return {StatusCode::kInvalidArgument, "diagnosis reference_nuisance_ratio must be > 0"};
+  if (reference_uncertainty && !reference)
+    return {StatusCode::kInvalidArgument, "diagnosis reference_uncertainty needs a reference"};
   return {};
 }
 
@@ -60,10 +62,9 @@ Status DiagnoseScreened(const testpieces::TestPiece& piece, const kinematics::Ma
   step::ReportCandidates(in, ranking, out);
 
   const Eigen::Index n = gap.r.size();
-  const double reference_ss = fit.reference_var_um2.sum();  // what the reference's u adds (0 without)
   out->noise_sigma_um = options.noise_um > 0
                             ? options.noise_um
-                            : std::sqrt(std::max(0.0, final_model.ssr - reference_ss) /
+                            : std::sqrt(std::max(0.0, final_model.ssr - final_model.reference_ss) /
                                         std::max<double>(1.0, static_cast<double>(n - final_model.dof)));
   step::SummariseGap(machine, mo, gap.r, out->noise_sigma_um, options, out, fit.reference_var_um2);
   step::CompleteVerdict(in, out);

@@ -5,7 +5,8 @@
 //  * the base model (default): the piece's DefaultParameterSet (location errors and squareness)
 //    fitted to the measured points with the 6-DOF re-alignment nuisance;
 //  * reference machine errors (DiagnosisOptions::reference, e.g. from a probing test): fixed, only
-//    the re-alignment is fitted;
+//    the re-alignment is fitted (with reference_free, those parameters too; with
+//    reference_uncertainty, the directions the reference's own uncertainty moves the piece along);
 //  * a reference point file (DiagnoseAgainstPoints, e.g. the piece simulated from known errors, or
 //    a second measurement): the gap is the measured normal deviation minus the reference's normal
 //    deviation at the associated reference point, with only the re-alignment fitted. Both files
@@ -269,7 +270,7 @@ struct PairFit {
 struct DiagnosisResult {
   std::string base_model;
   int n_points = 0;
-  int base_columns = 0;        // identifiable base directions + alignment
+  int base_columns = 0;        // identifiable base directions + alignment (+ the reference's nuisance directions)
   double rms_um = 0.0, max_abs_um = 0.0;   // the gap
   // With DiagnosisOptions::reference_free: RMS of the gap with the reference held entirely (only
   // the re-alignment fitted), before the parameters it disagrees on are refitted (um).

@@ -40,13 +40,14 @@ Result<std::shared_ptr<const kinematics::SlotDesign>> PassDesign(
 Status AddReferenceNuisance(const kinematics::MachineModel& machine, std::span<const kinematics::Observation> obs,
                             const DiagnosisOptions& options, BaseFit* fit, Eigen::MatrixXd* X) {
   if (!options.reference || !options.reference_uncertainty) return {};
-  auto nuisance = ReferenceNuisanceColumns(machine, fit->errors, obs, *X, *options.reference_uncertainty,
+  const Eigen::MatrixXd held = MakeBasis(*X, ColumnNorms(*X), kBaseRankTolerance, true).U;  // as the base's rank
+  auto nuisance = ReferenceNuisanceColumns(machine, fit->errors, obs, held, *options.reference_uncertainty,
                                            options.reference_nuisance_ratio);
   if (!nuisance.ok()) return nuisance.status();
-  const Eigen::MatrixXd& N = nuisance->columns;
+  const Eigen::MatrixXd& N = nuisance->columns_um;
   fit->nuisance_columns = static_cast<int>(N.cols());
-  fit->reference_var_um2 = nuisance->remaining.rowwise().squaredNorm();
-  fit->reference_remaining = std::move(nuisance->remaining);
+  fit->reference_var_um2 = nuisance->remaining_um.rowwise().squaredNorm();
+  fit->reference_remaining_um = std::move(nuisance->remaining_um);
   X->conservativeResize(Eigen::NoChange, X->cols() + N.cols());
   X->rightCols(N.cols()) = N;
   return {};

@@ -39,9 +39,9 @@ struct BaseFit {
   // Per point: the variance the reference's uncertainty adds to the gap off every fitted column
   // (DiagnosisOptions::reference_uncertainty; empty without it), expected beside the noise's.
   Eigen::VectorXd reference_var_um2;
-  // The same as a factor: that variance's covariance is reference_remaining reference_remaining^T
-  // (n x r, um; n x 0 without).
-  Eigen::MatrixXd reference_remaining;
+  // The same as a factor: that variance's covariance is reference_remaining_um
+  // reference_remaining_um^T (n x r, um; n x 0 without).
+  Eigen::MatrixXd reference_remaining_um;
   Basis basis;                     // of the design [base columns, 6 alignment columns, nuisance columns]
   Eigen::VectorXd y;               // per point: measured - predicted deviation (- the reference's), um
   Eigen::VectorXd coef, u;         // fitted correction at `errors` and its uncertainty, per design column

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -80,7 +81,7 @@ void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen
     g.n_points = static_cast<int>(idx.size());
     double ss = 0, sum = 0, tsum = 0, expected = 0;
     for (auto i : idx) {
-      if (expected_um2.size() == r.size()) expected += expected_um2(i);
+      if (expected_um2.size() > 0) expected += expected_um2(i);
       ss += r(i) * r(i);
       sum += r(i);
       tsum += t_s[static_cast<std::size_t>(i)];
@@ -282,6 +283,7 @@ void SummariseGap(const kinematics::MachineModel& machine, const testpieces::Mea
   const GapGroups groups = GroupGapPoints(machine, mo);
   const double z = options.stand_out_z;
   const Eigen::VectorXd& v = reference_var_um2;
+  assert(v.size() == 0 || v.size() == r0.size());
   GroupStats(groups.by_feature, r0, v, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
   GroupStats(groups.by_op, r0, v, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
   GroupStats(groups.by_a, r0, v, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");

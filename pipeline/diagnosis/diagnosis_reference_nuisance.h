@@ -17,20 +17,21 @@
 namespace tpcal::pipeline::diagnosis_internal {
 
 struct ReferenceNuisance {
-  Eigen::MatrixXd columns;    // n x k, um
-  Eigen::MatrixXd remaining;  // n x r, um: K off `columns` = remaining remaining^T (the smaller eigenvectors)
+  Eigen::MatrixXd columns_um;    // n x k: the directions fitted, each scaled by its standard deviation
+  Eigen::MatrixXd remaining_um;  // n x r: K off `columns_um` = remaining_um remaining_um^T
 };
 
 // With K = P J S J^T P (J: d deviation (um) / d coefficient of `uncertainty.names` at
-// `reference`, display units; S their covariance; P the projection off `held_design`'s columns,
-// the base's fitted columns and the re-alignment), the eigenvectors of K with eigenvalue above
-// ratio * uncertainty.noise_um^2, scaled by the square root of the eigenvalue (um), k >= 0, and
-// the others, scaled alike: what K keeps off them. Errors: unknown names, a covariance of the wrong size or
-// not finite, noise_um <= 0, those of the linearisation.
+// `reference`, display units; S their covariance; P the projection off `held_design`, one row per
+// observation: the base's fitted columns and the re-alignment), the eigenvectors of K with
+// eigenvalue above ratio * uncertainty.noise_um^2, scaled by the root of their eigenvalue, at most
+// n / 2 - held_design.cols() of them (the largest; the noise stays estimable), and the others
+// scaled alike. Errors: unknown names, a covariance of the wrong size or not finite, noise_um <=
+// 0, held_design rows != observations, those of the linearisation.
 Result<ReferenceNuisance> ReferenceNuisanceColumns(const kinematics::MachineModel& machine,
-                                                 const kinematics::ErrorState& reference,
-                                                 std::span<const kinematics::Observation> observations,
-                                                 const Eigen::MatrixXd& held_design,
-                                                 const ReferenceUncertainty& uncertainty, double ratio);
+                                                   const kinematics::ErrorState& reference,
+                                                   std::span<const kinematics::Observation> observations,
+                                                   const Eigen::MatrixXd& held_design,
+                                                   const ReferenceUncertainty& uncertainty, double ratio);
 
 }  // namespace tpcal::pipeline::diagnosis_internal

@@ -140,16 +140,18 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
   cr.cv_shrink_pct = cr.cv_rms_before_um > 0 ? 100.0 * (1.0 - cr.cv_rms_after_um / cr.cv_rms_before_um) : 0.0;
   // What a reference's own uncertainty adds to the reduction (its variance along the candidate's
   // new directions) and to ssr1 (the rest), taken off both: an effect must explain more than it.
-  const double ref_in = fit.reference_remaining.cols() ? (b.U.transpose() * fit.reference_remaining).squaredNorm() : 0.0;
+  // When ssr1 leaves nothing beyond it for the noise, p stays 1 (nothing to test against).
+  const Eigen::MatrixXd& R = fit.reference_remaining_um;
+  const double ref_in = R.cols() ? (b.U.transpose() * R).squaredNorm() : 0.0;
   const double ref_out = std::max(0.0, fit.reference_var_um2.sum() - ref_in);
   if (b.rank > 0 && dof1 > 0 && ssr1 > ref_out) {
-    cr.f_stat = (std::max(0.0, gap.ssr - ssr1 - ref_in) / b.rank) / ((ssr1 - ref_out) / dof1);
+    cr.f_stat = ((gap.ssr - ssr1 - ref_in) / b.rank) / ((ssr1 - ref_out) / dof1);
     cr.p_value = FUpperTail(cr.f_stat, b.rank, dof1);
     // With a known CMM noise the reduction must also stand out against it (chi-square with rank
     // degrees of freedom): on noise-free data the F ratio of rounding and linearisation residuals
     // is significant for any candidate.
     if (options.noise_um > 0)
-      cr.p_value = std::max(cr.p_value, FUpperTail((std::max(0.0, gap.ssr - ssr1 - ref_in) / b.rank) / (options.noise_um * options.noise_um),
+      cr.p_value = std::max(cr.p_value, FUpperTail(((gap.ssr - ssr1 - ref_in) / b.rank) / (options.noise_um * options.noise_um),
                                                    b.rank, 1e12));
     cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / gap.ssr) + b.rank * std::log(static_cast<double>(n));
   }

@@ -20,6 +20,7 @@
 #include "kinematics/slot_linearisation.h"
 #include "pipeline/report/diagnosis_json.h"
 #include "pipeline/diagnosis/diagnosis_gap_summary.h"
+#include "pipeline/diagnosis/diagnosis_reference_nuisance.h"
 #include "pipeline/diagnosis/diagnosis_validate.h"
 #include "testpieces/point_association.h"
 #include "testpieces/probing_plan.h"
@@ -416,10 +417,10 @@ TEST(Diagnosis, ReferenceModeFindsTheLocationErrorChange) {
 // The reference's own uncertainty (DiagnosisOptions::reference_uncertainty). Truth: the piece is
 // cut by Table 2's errors, the reference holds them with dx_CR(0) 4 um off (noise 0.5 um, seed 13).
 // Known to 0.01 um the 4 um is the reference's error: refitting the location errors takes it
-// (location_errors, no nuisance direction: its variance 1e-4 um^2 times a column of norm^2 at
-// most n = 352 is at most 0.035 um^2, below sigma^2 = 0.25 um^2). Known to 4 um (variance 16 um^2
-// times that norm^2, far above 0.25) the same 4 um lies within what the reference knows: one
-// direction fitted, none.
+// (location_errors, no nuisance direction: its variance 1e-4 um^2 times its column's norm^2 off
+// the re-alignment, 103 um^2/um^2 measured on this piece, is 0.01 um^2, below sigma^2 = 0.25 um^2).
+// Known to 4 um (16 x 103 um^2, far above 0.25) the same 4 um lies within what the reference
+// knows: one direction fitted, none.
 TEST(Diagnosis, ReferenceUncertaintyIsFittedNotBlamed) {
   const Fixture f = Make();
   kinematics::ErrorState off = Table2(f.machine);
@@ -439,6 +440,47 @@ TEST(Diagnosis, ReferenceUncertaintyIsFittedNotBlamed) {
     EXPECT_EQ(d->verdict.family, loose ? "none" : "location_errors") << u_um;
     EXPECT_EQ(d->base_model.find("1 direction its own uncertainty") != std::string::npos, loose) << d->base_model;
   }
+}
+
+// ReferenceNuisanceColumns against K = P J S J^T P computed here (P off the re-alignment, J the
+// turning piece's design in three location errors of C, S singular: dx and dy fully correlated,
+// 2 um each, alpha 1 urad; rank 2). Truth: the fitted columns and the rest rebuild K, the columns
+// are orthogonal to the re-alignment, each fitted one carries more than ratio sigma^2 = 0.25 um^2
+// and each one left at most that, and at most rank S = 2 directions carry anything. Tolerance:
+// double rounding, 1e-9 of K's largest entry.
+TEST(Diagnosis, ReferenceNuisanceSplitsTheReferenceVarianceAtTheThreshold) {
+  const Fixture f = Make();
+  const kinematics::ErrorState table2 = Table2(f.machine);
+  auto mo = SimulatedObservations(f, table2, 0.0, 13);
+  ASSERT_TRUE(mo.ok()) << mo.status().message();
+  const std::vector<std::string> names = {"dx_CR(0)", "dy_CR(0)", "alpha_CR(0)"};
+  kinematics::ErrorState at = table2;
+  auto active = kinematics::ActivateParameters(f.machine, &at, names);
+  ASSERT_TRUE(active.ok());
+  auto lin = kinematics::LineariseObservations(f.machine, at, *active, mo->observations);
+  ASSERT_TRUE(lin.ok());
+  Eigen::MatrixXd S(3, 3);
+  S << 4, 4, 0, 4, 4, 0, 0, 0, 1;
+  const Eigen::MatrixXd& A = lin->J_dev_alignment;
+  const Eigen::MatrixXd Q = Eigen::HouseholderQR<Eigen::MatrixXd>(A).householderQ() * Eigen::MatrixXd::Identity(A.rows(), 6);
+  const Eigen::MatrixXd PJ = lin->J_dev_params - Q * (Q.transpose() * lin->J_dev_params);
+  const Eigen::MatrixXd K = PJ * S * PJ.transpose();
+  auto split = diagnosis_internal::ReferenceNuisanceColumns(f.machine, table2, mo->observations, A,
+                                                           ReferenceUncertainty{names, S, 0.5}, 1.0);
+  ASSERT_TRUE(split.ok()) << split.status().message();
+  const Eigen::MatrixXd& C = split->columns_um;
+  const Eigen::MatrixXd& R = split->remaining_um;
+  const double tol = 1e-9 * K.cwiseAbs().maxCoeff();
+  EXPECT_LT((C * C.transpose() + R * R.transpose() - K).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LT((Q.transpose() * C).cwiseAbs().maxCoeff(), 1e-9 * C.cwiseAbs().maxCoeff());
+  int carrying = 0;
+  for (Eigen::Index j = 0; j < C.cols(); ++j) EXPECT_GT(C.col(j).squaredNorm(), 0.25);
+  for (Eigen::Index j = 0; j < R.cols(); ++j) {
+    EXPECT_LE(R.col(j).squaredNorm(), 0.25);
+    carrying += R.col(j).squaredNorm() > tol;
+  }
+  EXPECT_LE(C.cols() + carrying, 2);
+  EXPECT_GE(C.cols(), 1);  // 4 um^2 on a C location error moves hundreds of points
 }
 
 // Point reference: the "sim" is a point file simulated from the same machine errors (another

@@ -187,7 +187,9 @@ Ranking RankCandidates(const ScoredCandidates& scored) {
 
 FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out) {
   const auto& results = in.scored.results;
-  if (ranking.order.empty() || !results[ranking.order.front()].significant) return {in.gap.ssr, in.fit.basis.rank};
+  const double reference_ss = in.fit.reference_var_um2.sum();
+  if (ranking.order.empty() || !results[ranking.order.front()].significant)
+    return {in.gap.ssr, in.fit.basis.rank, reference_ss};
   const std::size_t v = ranking.order.front();
   NameVerdict(in, ranking, v, out);
   AddAliases(in, v, out);
@@ -198,7 +200,10 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
     out->verdict.also.reset();
   const double n = static_cast<double>(in.gap.r.size());
-  return {results[v].rms_after_um * results[v].rms_after_um * n, in.fit.basis.rank + results[v].rank};
+  const Eigen::MatrixXd& R = in.fit.reference_remaining_um;  // its share along the verdict's directions is fitted
+  const double reference_in = R.cols() ? (in.scored.bases[v].U.transpose() * R).squaredNorm() : 0.0;
+  return {results[v].rms_after_um * results[v].rms_after_um * n, in.fit.basis.rank + results[v].rank,
+          std::max(0.0, reference_ss - reference_in)};
 }
 
 void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out) {

@@ -43,10 +43,12 @@ struct Ranking {
 };
 Ranking RankCandidates(const ScoredCandidates& scored);
 
-// The model the verdict leaves: its sum of squared residuals (um^2) and fitted directions.
+// The model the verdict leaves: its sum of squared residuals (um^2), fitted directions, and the
+// part of ssr a reference's own uncertainty is expected to add (um^2; BaseFit::reference_var_um2).
 struct FinalModel {
   double ssr = 0.0;
   int dof = 0;
+  double reference_ss = 0.0;
 };
 
 // The verdict, the families indistinguishable from it, `also`, and the pair fit, into `out`.
