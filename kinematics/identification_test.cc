@@ -495,39 +495,5 @@ TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalf
   EXPECT_FALSE(UpdateWithinPrior(m, prior, active, piece_u, obs, 0.0).ok());
 }
 
-// The conflict test of UpdateWithinPrior on the box with noise sigma 1 um (seed 465). Truth: the
-// prior's squareness is the truth, or the truth + 60 urad. A prior of the truth with u = 2 urad
-// agrees: chi2 near its dof and p above 0.01. The prior 60 urad off with u = 2 urad is a
-// conflict: an offset adds about offset^2 / (u^2 + u_piece^2) per coefficient to chi2, and the
-// box knows each squareness to u_piece ~5 urad (measured: a 20 urad offset added 44 on 3
-// coefficients), so about 3 x 3600 / 29 = 370 here (p < 1e-6). With u = 100 urad the same prior
-// agrees again (its u covers the offset). Without noise the true prior gives chi2 = 0.
-TEST(PriorUpdate, ConflictTestSeparatesAWrongPriorFromItsUncertainty) {
-  const MachineModel m = IdentifyTestMachine();
-  const std::vector<std::string> names = IsoLocationSet(m);
-  ErrorState base(m), truth(m);
-  ActiveSet active;
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
-  std::vector<Observation> exact = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &exact));
-  std::vector<Observation> noisy = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
-  std::mt19937_64 rng(465);
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 1.0, &rng, Rigid3::Identity(), &noisy));
-  ErrorState off = truth;
-  for (int c : active.coefficients)
-    off.set_coefficient(c, truth.coefficient(c) + 60.0 / truth.coefficient_info(c).display_per_internal);
-  const std::vector<double> u2(names.size(), 2.0), u100(names.size(), 100.0);
-  auto agree = UpdateWithinPrior(m, truth, active, u2, noisy, 1.0);
-  auto wrong = UpdateWithinPrior(m, off, active, u2, noisy, 1.0);
-  auto loose = UpdateWithinPrior(m, off, active, u100, noisy, 1.0);
-  auto clean = UpdateWithinPrior(m, truth, active, u2, exact, 1.0);
-  ASSERT_TRUE(agree.ok() && wrong.ok() && loose.ok() && clean.ok());
-  EXPECT_EQ(agree->conflict_dof, static_cast<int>(noisy.size()) - 6);
-  EXPECT_GT(agree->conflict_p, 0.01) << agree->conflict_chi2 << " on " << agree->conflict_dof;
-  EXPECT_LT(wrong->conflict_p, 1e-6) << wrong->conflict_chi2 << " on " << wrong->conflict_dof;
-  EXPECT_GT(loose->conflict_p, 0.01) << loose->conflict_chi2 << " on " << loose->conflict_dof;
-  EXPECT_NEAR(clean->conflict_chi2, 0.0, 1e-6);
-}
-
 }  // namespace
 }  // namespace tpcal::kinematics

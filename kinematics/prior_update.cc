@@ -1,9 +1,7 @@
 #include "kinematics/prior_update.h"
 
 #include <Eigen/Dense>
-#include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
-#include <limits>
 #include <string>
 
 namespace tpcal::kinematics {
@@ -69,16 +67,6 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
   Eigen::VectorXd delta = Eigen::VectorXd::Zero(info.rows()), var = Eigen::VectorXd::Zero(info.rows());
   for (Eigen::Index i = 0; i < q; ++i) delta(seen[i]) = delta_seen(i), var(seen[i]) = cov_seen(i, i);
   PriorUpdate out(prior);
-  out.conflict_chi2 = w * y.squaredNorm() - rhs.dot(delta);
-  int free_seen = 0;
-  const Eigen::VectorXd known = PriorInformation(prior_u);
-  for (Eigen::Index k : seen) free_seen += known(k) > 0.0 ? 0 : 1;
-  const auto alignment_rank = static_cast<int>(Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(lin->J_dev_alignment).rank());
-  out.conflict_dof = static_cast<int>(y.size()) - alignment_rank - free_seen;
-  out.conflict_p = std::numeric_limits<double>::quiet_NaN();
-  if (out.conflict_dof > 0 && std::isfinite(out.conflict_chi2))
-    out.conflict_p = boost::math::cdf(boost::math::complement(boost::math::chi_squared(out.conflict_dof),
-                                                              std::max(0.0, out.conflict_chi2)));
   for (int k = 0; k < active.size(); ++k) {
     const int c = active.coefficients[static_cast<std::size_t>(k)];
     const double per = prior.coefficient_info(c).display_per_internal;

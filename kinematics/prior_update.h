@@ -26,17 +26,6 @@ struct PriorUpdate {
   ErrorState posterior;              // the prior with `delta` added to the active coefficients
   std::vector<double> delta;         // per active coefficient, display units (um, urad)
   std::vector<double> posterior_u;   // per active coefficient, display units, k = 1
-  // Does the piece agree with the prior? chi2 = y^T (sigma^2 I + J S J^T)^-1 y over the deviations
-  // with the re-alignment projected out (= y^T y / sigma^2 - b^T delta, b = J^T y / sigma^2), on
-  // conflict_dof = observations - re-alignment rank - the number of seen coefficients the prior
-  // does not know (their count, not their rank); p its upper tail for a known sigma, NaN when
-  // untestable (dof <= 0, chi2 not finite). p below a test level: the prior and the piece differ
-  // beyond the prior's u and the noise (an effect the prior lacks, or a wrong prior), and the
-  // update would absorb the difference. A global test: an effect of a few directions among
-  // hundreds of degrees of freedom must be large to fail it.
-  double conflict_chi2 = 0.0;
-  int conflict_dof = 0;
-  double conflict_p = 0.0;
 };
 
 // `prior_u` holds one standard uncertainty per coefficient of `active` (display units).
