@@ -112,6 +112,13 @@ std::string ReferenceHeld(const BaseFit& fit, const DiagnosisOptions& options) {
 
 }  // namespace
 
+double ReferenceVarianceAlong(const BaseFit& fit, const Eigen::MatrixXd& U) {
+  const Eigen::MatrixXd& R = fit.reference_remaining_um;
+  return R.cols() ? (U.transpose() * R).squaredNorm() : 0.0;
+}
+
+double SsrBeyondReference(const BaseFit& fit, double ssr) { return std::max(0.0, ssr - fit.reference_var_um2.sum()); }
+
 std::vector<kinematics::ErrorSlot> DiagnosisSlotUnion(const kinematics::ErrorState& errors,
                                                       const std::vector<int>& base_coefficients,
                                                       const std::vector<kinematics::ErrorSlot>& candidate_slots) {

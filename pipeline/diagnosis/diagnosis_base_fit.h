@@ -52,6 +52,13 @@ struct BaseFit {
   std::shared_ptr<const kinematics::SlotDesign> design;
 };
 
+// The variance a reference's own uncertainty adds along the orthonormal directions `U` (n x k,
+// columns a candidate's or the verdict's; um^2): what fitting them takes of it. 0 without one.
+double ReferenceVarianceAlong(const BaseFit& fit, const Eigen::MatrixXd& U);
+
+// `ssr` less what a reference's own uncertainty is expected to add to it (um^2, at least 0).
+double SsrBeyondReference(const BaseFit& fit, double ssr);
+
 // The base set `base_names` fitted with the re-alignment (Gauss-Newton: a second linearisation
 // at the fit when a fitted value exceeds 1000 um / urad), or in reference mode only the
 // re-alignment at the reference; `reference_dev_um` (or null) is subtracted from the measured

@@ -141,8 +141,7 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
   // What a reference's own uncertainty adds to the reduction (its variance along the candidate's
   // new directions) and to ssr1 (the rest), taken off both: an effect must explain more than it.
   // When ssr1 leaves nothing beyond it for the noise, p stays 1 (nothing to test against).
-  const Eigen::MatrixXd& R = fit.reference_remaining_um;
-  const double ref_in = R.cols() ? (b.U.transpose() * R).squaredNorm() : 0.0;
+  const double ref_in = ReferenceVarianceAlong(fit, b.U);
   const double ref_out = std::max(0.0, fit.reference_var_um2.sum() - ref_in);
   if (b.rank > 0 && dof1 > 0 && ssr1 > ref_out) {
     cr.f_stat = ((gap.ssr - ssr1 - ref_in) / b.rank) / ((ssr1 - ref_out) / dof1);

@@ -200,8 +200,8 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
     out->verdict.also.reset();
   const double n = static_cast<double>(in.gap.r.size());
-  const Eigen::MatrixXd& R = in.fit.reference_remaining_um;  // its share along the verdict's directions is fitted
-  const double reference_in = R.cols() ? (in.scored.bases[v].U.transpose() * R).squaredNorm() : 0.0;
+  // The reference's share along the verdict's directions is fitted.
+  const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[v].U);
   return {results[v].rms_after_um * results[v].rms_after_um * n, in.fit.basis.rank + results[v].rank,
           std::max(0.0, reference_ss - reference_in)};
 }
@@ -241,7 +241,7 @@ double ExcessPValue(const VerdictInputs& in, double sigma_um) {
   const auto n = static_cast<double>(in.gap.r.size());
   const double dof = n - in.fit.basis.rank;
   if (sigma_um <= 0 || dof <= 0) return 1.0;
-  const double f = (std::max(0.0, in.gap.ssr - in.fit.reference_var_um2.sum()) / dof) / (sigma_um * sigma_um);
+  const double f = (SsrBeyondReference(in.fit, in.gap.ssr) / dof) / (sigma_um * sigma_um);
   return FUpperTail(f, dof, 0.37 * n);
 }
 
@@ -276,7 +276,7 @@ void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
   // The gap is that of the points kept: a local defect's points are left out, so what still stands
   // out lies elsewhere (a bent part flags patches and more).
   const double n = static_cast<double>(in.gap.r.size());
-  const double rms_beyond_reference_um = std::sqrt(std::max(0.0, in.gap.ssr - in.fit.reference_var_um2.sum()) / n);
+  const double rms_beyond_reference_um = std::sqrt(SsrBeyondReference(in.fit, in.gap.ssr) / n);
   const bool excess =
       out->excess_p_value < in.options.alpha && rms_beyond_reference_um > kExcessRatio * out->neighbour_sigma_um;
   if (!out->local_defects.empty() && out->standing_out.empty() && !excess) {
