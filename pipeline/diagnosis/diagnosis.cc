@@ -66,7 +66,7 @@ Status DiagnoseScreened(const testpieces::TestPiece& piece, const kinematics::Ma
                             ? options.noise_um
                             : std::sqrt(std::max(0.0, final_model.ssr - final_model.reference_ss) /
                                         std::max<double>(1.0, static_cast<double>(n - final_model.dof)));
-  step::SummariseGap(machine, mo, gap.r, out->noise_sigma_um, options, out, fit.reference_var_um2);
+  step::SummariseGap(machine, mo, gap.r, out->noise_sigma_um, options, out, fit.reference_remaining_um);
   step::CompleteVerdict(in, out);
   return {};
 }

@@ -70,18 +70,34 @@ double ChiSquareZ(double x, double k) {
   return (std::cbrt(x / k) - (1.0 - v)) / std::sqrt(v);
 }
 
-// Per group: its statistics, and its excess over noise of sigma and the variance `expected_um2`
-// (per point; empty: none) adds.
-void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen::VectorXd& expected_um2,
+// The rows `idx` of a reference's leftover factor R (BaseFit::reference_remaining_um; n x 0: none).
+Eigen::MatrixXd RowsOf(const Eigen::MatrixXd& R, const std::vector<Eigen::Index>& idx) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), R.cols());
+  if (R.cols() > 0)
+    for (std::size_t row = 0; row < idx.size(); ++row) out.row(static_cast<Eigen::Index>(row)) = R.row(idx[row]);
+  return out;
+}
+
+// The normal score of a sum of squares `ss` (um^2) of `k` components holding noise of sigma and a
+// reference's leftover part of factor Z (k x r rows; none: ChiSquareZ(ss / sigma^2, k)): that of
+// ss / c against chi2_d, c d and d from SatterthwaiteLaw.
+double SpreadZ(double ss, int k, double sigma, const Eigen::MatrixXd& Z) {
+  if (Z.cols() == 0) return ChiSquareZ(ss / (sigma * sigma), k);
+  const ChiSquareLaw law = SatterthwaiteLaw(k, sigma * sigma, Z);
+  return ChiSquareZ(ss * law.dof / law.mean_um2, law.dof);
+}
+
+// Per group: its statistics, and its excess over noise of sigma and what a reference's leftover
+// part (factor R, n x r; none: n x 0) adds, mean and spread (SpreadZ).
+void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen::MatrixXd& R,
                 const std::vector<double>& t_s, double sigma, double z_out, std::vector<GroupGap>* out,
                 std::vector<std::string>* standing, const std::string& prefix) {
   for (const auto& [name, idx] : groups) {
     GroupGap g;
     g.group = name;
     g.n_points = static_cast<int>(idx.size());
-    double ss = 0, sum = 0, tsum = 0, expected = 0;
+    double ss = 0, sum = 0, tsum = 0;
     for (auto i : idx) {
-      if (expected_um2.size() > 0) expected += expected_um2(i);
       ss += r(i) * r(i);
       sum += r(i);
       tsum += t_s[static_cast<std::size_t>(i)];
@@ -91,15 +107,17 @@ void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen
     g.rms_um = std::sqrt(ss / n);
     g.mean_um = sum / n;
     g.mean_t_s = tsum / n;
-    g.z = sigma > 0 ? ChiSquareZ(std::max(0.0, ss - expected) / (sigma * sigma), n) : 0.0;
+    g.z = sigma > 0 ? SpreadZ(ss, g.n_points, sigma, RowsOf(R, idx)) : 0.0;
     g.stands_out = g.z > z_out;
     if (g.stands_out) standing->push_back(prefix + name);
     out->push_back(g);
   }
 }
 
-// Linear trend of the gap with machining time (um per hour) and its uncertainty.
-void FitDrift(const Eigen::VectorXd& r0, const std::vector<double>& t_s, double s, DiagnosisResult* out) {
+// Linear trend of the gap with machining time (um per hour) and its uncertainty: of the noise
+// sigma s and of a reference's leftover part (factor R, n x r; none: n x 0).
+void FitDrift(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const std::vector<double>& t_s, double s,
+              DiagnosisResult* out) {
   const auto n = r0.size();
   Eigen::MatrixXd T(n, 2);
   for (Eigen::Index i = 0; i < n; ++i) T(i, 0) = 1.0, T(i, 1) = t_s[static_cast<std::size_t>(i)] / 3600.0;
@@ -108,6 +126,10 @@ void FitDrift(const Eigen::VectorXd& r0, const std::vector<double>& t_s, double 
     const Eigen::Vector2d beta = TtT.ldlt().solve(T.transpose() * r0);
     out->drift_um_per_h = beta(1);
     out->drift_u_um_per_h = s * std::sqrt(TtT.inverse()(1, 1));
+    if (R.cols() > 0) {
+      const Eigen::RowVectorXd slope = (TtT.inverse() * T.transpose()).row(1) * R;  // um/h per factor column
+      out->drift_u_um_per_h = std::hypot(out->drift_u_um_per_h, slope.norm());
+    }
   }
 }
 
@@ -172,11 +194,12 @@ int DistinctAzimuths(std::vector<double> phi) {
   return n;
 }
 
-// The least-squares fit of y on [1, cos k phi, sin k phi], k = 1..kmax: coefficients and (X^T X)^-1.
+// The least-squares fit of y on [1, cos k phi, sin k phi], k = 1..kmax: coefficients, (X^T X)^-1
+// and the gain (X^T X)^-1 X^T that maps y to them.
 // False when an order's variance exceeds 100 x the equal-spacing 2 / m (its amplitude would be
 // noise: azimuths too uneven or too few for that many orders) or the design is singular.
 bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kmax, Eigen::VectorXd* coef,
-               Eigen::MatrixXd* cov) {
+               Eigen::MatrixXd* cov, Eigen::MatrixXd* gain) {
   const auto m = static_cast<Eigen::Index>(phi.size());
   Eigen::MatrixXd X(m, 1 + 2 * kmax);
   for (Eigen::Index row = 0; row < m; ++row) {
@@ -192,7 +215,18 @@ bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kma
   *cov = normal.solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
   if (cov->diagonal().tail(2 * kmax).maxCoeff() > 100.0 * 2.0 / static_cast<double>(m)) return false;
   *coef = normal.solve(X.transpose() * y);
+  *gain = *cov * X.transpose();
   return true;
+}
+
+// The Rayleigh score of a profile order's energy (um^2) under noise of sigma and a reference's
+// leftover part of whitened factor Z (2 x r, HarmonicReference): the z whose chi2_2 value
+// has the normal score (ChiSquareZ) that energy has against SatterthwaiteLaw's c chi2_d.
+double RayleighEquivalentZ(double energy_um2, double sigma, const Eigen::MatrixXd& Z) {
+  const double zn = SpreadZ(energy_um2, 2, sigma, Z);
+  const double v2 = 1.0 / 9.0;  // 2 / (9 k) at k = 2
+  const double root = std::max(0.0, 1.0 - v2 + zn * std::sqrt(v2));
+  return std::sqrt(2.0 * root * root * root);
 }
 
 // Harmonics 1..kmax of the gap around one circular profile (azimuth phi about its centre,
@@ -201,10 +235,13 @@ bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kma
 // DFT's sums assume equal spacing. kmax: the most orders, up to min(max_harmonic, distinct azimuths / 2 - 1), that FitOrders
 // accepts (a tilted hole probed at two levels has its azimuths in close pairs). energy = (a, b)
 // C^-1 (a, b)^T, C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s: m A^2 / 2 and
-// A / (s sqrt(2 / m)) on m equally spaced points. Appended to *all.
+// A / (s sqrt(2 / m)) on m equally spaced points. With a reference's leftover factor R (n x r),
+// each order's share of it, whitened as the energy is (L^T G R_idx, C^-1 = L L^T, G the order's
+// rows of the gain), and z is RayleighEquivalentZ. Appended to *all and *ref_z (2 x 0 without).
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
-                      const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0, double s,
-                      int max_harmonic, std::vector<HarmonicGap>* all) {
+                      const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0,
+                      const Eigen::MatrixXd& R, double s, int max_harmonic, std::vector<HarmonicGap>* all,
+                      std::vector<Eigen::MatrixXd>* ref_z) {
   const Eigen::Vector3d c = ProfileCentre(idx, obs);
   if (!IsCircularProfile(idx, obs, c)) return;
   std::vector<double> phi(idx.size());
@@ -215,15 +252,24 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
     y(static_cast<Eigen::Index>(row)) = r0(idx[row]);
   }
   Eigen::VectorXd coef;
-  Eigen::MatrixXd cov;
+  Eigen::MatrixXd cov, gain;
   int kmax = std::min<int>(max_harmonic, DistinctAzimuths(phi) / 2 - 1);
-  while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov)) --kmax;
+  while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov, &gain)) --kmax;
+  const Eigen::MatrixXd R_idx = RowsOf(R, idx);
   for (int k = 1; k <= kmax; ++k) {
     const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k));
     const double energy = ab.dot(cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse() * ab);
     HarmonicGap h{name, k, ab.norm(), RadToDeg(std::atan2(ab.y(), ab.x())), 0.0, false, energy};
     h.z = s > 0 ? std::sqrt(energy) / s : 0.0;
+    Eigen::MatrixXd Z(2, 0);
+    if (R.cols() > 0) {
+      const Eigen::Matrix2d c_inv = cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse();
+      const Eigen::Matrix2d L = c_inv.llt().matrixL();
+      Z = L.transpose() * gain.middleRows(2 * k - 1, 2) * R_idx;
+      h.z = s > 0 ? RayleighEquivalentZ(energy, s, Z) : 0.0;
+    }
     all->push_back(h);
+    ref_z->push_back(std::move(Z));
   }
 }
 
@@ -232,46 +278,66 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
 // squares without it, an F test that needs no noise estimate from elsewhere (an error motion of
 // more lobes than the neighbour spacing resolves inflates every other noise figure). Stands out
 // below 1 % / (number of orders), Bonferroni, when S_k also stands out against the noise sigma.
-void PooledHarmonics(const std::vector<HarmonicGap>& all, const PointGroups& by_feature, const Eigen::VectorXd& r0,
-                     double s, DiagnosisResult* out) {
-  double ssr = 0.0, n = 0.0;
+// With a reference's leftover factor R, S_k's law is SatterthwaiteLaw's over the orders' stacked
+// whitened factors `ref_z`, and the residual's share of R is taken off its sum of squares.
+void PooledHarmonics(const std::vector<HarmonicGap>& all, const std::vector<Eigen::MatrixXd>& ref_z,
+                     const PointGroups& by_feature, const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, double s,
+                     DiagnosisResult* out) {
+  double ssr = 0.0, n = 0.0, ref_ss = 0.0;
   for (const auto& [name, idx] : by_feature)
     if (idx.size() >= 8) {
       n += static_cast<double>(idx.size());
       for (auto i : idx) ssr += r0(i) * r0(i);
+      if (R.cols() > 0) ref_ss += RowsOf(R, idx).squaredNorm();
     }
   std::map<int, std::pair<double, int>> energy;  // order -> S_k, F_k
-  for (const auto& h : all) {
-    auto& e = energy[h.order];
-    e.first += h.energy_um2;
+  std::map<int, std::vector<std::size_t>> of_order;
+  for (std::size_t j = 0; j < all.size(); ++j) {
+    auto& e = energy[all[j].order];
+    e.first += all[j].energy_um2;
     e.second += 1;
+    of_order[all[j].order].push_back(j);
   }
   for (const auto& [k, e] : energy) {
     const double d1 = 2.0 * e.second, d2 = n - 2.0 * e.second;
     if (e.second < 2 || d2 <= 30 || ssr - e.first <= 0) continue;
-    const double p = FUpperTail((e.first / d1) / ((ssr - e.first) / d2), d1, d2);
+    double p = FUpperTail((e.first / d1) / ((ssr - e.first) / d2), d1, d2);
     // and beyond the noise sigma (chi-square with d1 degrees of freedom): on noise-free data
     // the F ratio of rounding residuals is meaningless.
-    const double p_noise = s > 0 ? FUpperTail((e.first / d1) / (s * s), d1, 1e12) : 1.0;
+    double p_noise = s > 0 ? FUpperTail((e.first / d1) / (s * s), d1, 1e12) : 1.0;
+    if (R.cols() > 0) {
+      Eigen::MatrixXd Zk(2 * e.second, R.cols());
+      for (std::size_t j = 0; j < of_order[k].size(); ++j)
+        Zk.middleRows(2 * static_cast<Eigen::Index>(j), 2) = ref_z[of_order[k][j]];
+      const double s2_hat = (ssr - e.first - std::max(0.0, ref_ss - Zk.squaredNorm())) / d2;
+      if (!(s2_hat > 0)) continue;
+      const ChiSquareLaw law = SatterthwaiteLaw(2 * e.second, s2_hat, Zk);
+      p = FUpperTail(e.first / law.mean_um2, law.dof, d2);
+      const ChiSquareLaw known = SatterthwaiteLaw(2 * e.second, s * s, Zk);
+      p_noise = s > 0 ? FUpperTail(e.first / known.mean_um2, known.dof, 1e12) : 1.0;
+    }
     const double bound = 0.01 / static_cast<double>(energy.size());
     if (p < bound && p_noise < bound)
       out->standing_out.push_back(fmt::format("harmonic {} on {} circular profiles (pooled, p = {:.2g})", k, e.second, p));
   }
 }
 
-// C harmonics of every circular profile (a feature of at least 8 points), and which stand out.
+// C harmonics of every circular profile (a feature of at least 8 points), and which stand out;
+// R: a reference's leftover factor (n x r; none: n x 0).
 void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinematics::Observation>& obs,
-                       const Eigen::VectorXd& r0, double s, int max_harmonic, DiagnosisResult* out) {
+                       const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, double s, int max_harmonic,
+                       DiagnosisResult* out) {
   std::vector<HarmonicGap> all;
+  std::vector<Eigen::MatrixXd> ref_z;
   for (const auto& [name, idx] : by_feature)
-    if (idx.size() >= 8) ProfileHarmonics(name, idx, obs, r0, s, max_harmonic, &all);
+    if (idx.size() >= 8) ProfileHarmonics(name, idx, obs, r0, R, s, max_harmonic, &all, &ref_z);
   // Rayleigh tail with a Bonferroni bound at 1 %: P(z > t) = exp(-t^2 / 2) per test.
   const double t = all.empty() ? 0.0 : std::sqrt(2.0 * std::log(static_cast<double>(all.size()) / 0.01));
   for (auto& h : all) {
     h.stands_out = h.z > t;
     if (h.stands_out) out->standing_out.push_back("feature " + h.feature + " harmonic " + std::to_string(h.order));
   }
-  PooledHarmonics(all, by_feature, r0, s, out);
+  PooledHarmonics(all, ref_z, by_feature, r0, R, s, out);
   out->harmonics = std::move(all);
 }
 
@@ -279,16 +345,17 @@ void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinemati
 
 void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& mo,
                   const Eigen::VectorXd& r0, double s, const DiagnosisOptions& options, DiagnosisResult* out,
-                  const Eigen::VectorXd& reference_var_um2) {
+                  const Eigen::MatrixXd& reference_remaining_um) {
   const GapGroups groups = GroupGapPoints(machine, mo);
   const double z = options.stand_out_z;
-  const Eigen::VectorXd& v = reference_var_um2;
-  assert(v.size() == 0 || v.size() == r0.size());
-  GroupStats(groups.by_feature, r0, v, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
-  GroupStats(groups.by_op, r0, v, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
-  GroupStats(groups.by_a, r0, v, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
-  FitDrift(r0, groups.t_s, s, out);
-  CircularHarmonics(groups.by_feature, mo.observations, r0, s, options.max_harmonic, out);
+  const Eigen::MatrixXd none(r0.size(), 0);
+  const Eigen::MatrixXd& R = reference_remaining_um.cols() > 0 ? reference_remaining_um : none;
+  assert(R.rows() == r0.size());
+  GroupStats(groups.by_feature, r0, R, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
+  GroupStats(groups.by_op, r0, R, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
+  GroupStats(groups.by_a, r0, R, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
+  FitDrift(r0, R, groups.t_s, s, out);
+  CircularHarmonics(groups.by_feature, mo.observations, r0, R, s, options.max_harmonic, out);
 }
 
 }  // namespace tpcal::pipeline::diagnosis_internal

@@ -13,10 +13,11 @@ namespace tpcal::pipeline::diagnosis_internal {
 
 // The gap `gap_um` (per observation) summarised against the noise sigma `sigma_um` into out's
 // by_feature, by_operation, by_a_index, drift, harmonics and standing_out (groups first, then
-// harmonics). A group's excess is over the noise and `reference_var_um2` (per observation, the
-// variance a reference's own uncertainty adds: BaseFit::reference_var_um2; empty: none).
+// harmonics). With a reference's own uncertainty (its leftover factor off the fitted columns,
+// BaseFit::reference_remaining_um: n x r, um; no column: none), every test weighs the variance
+// it adds, mean and spread (SatterthwaiteLaw), and the drift's u holds its share.
 void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& observations,
                   const Eigen::VectorXd& gap_um, double sigma_um, const DiagnosisOptions& options,
-                  DiagnosisResult* out, const Eigen::VectorXd& reference_var_um2 = Eigen::VectorXd());
+                  DiagnosisResult* out, const Eigen::MatrixXd& reference_remaining_um = Eigen::MatrixXd());
 
 }  // namespace tpcal::pipeline::diagnosis_internal

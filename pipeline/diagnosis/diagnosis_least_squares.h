@@ -36,6 +36,15 @@ void Solve(const Basis& b, const Eigen::VectorXd& y, double s2, Eigen::VectorXd*
 // Upper tail of the F distribution (Paulson's normal approximation; adequate for d2 > 30).
 double FUpperTail(double f, double d1, double d2);
 
+// The law of a sum of squares of k components holding noise of variance sigma2_um2 each and a
+// correlated part of covariance Z Z^T (Z: k x r, um): c chi2_d with its mean and variance
+// (Satterthwaite), returned as the mean c d (um^2) and d. Z with no column: k sigma2, k.
+struct ChiSquareLaw {
+  double mean_um2 = 0.0;
+  double dof = 0.0;
+};
+ChiSquareLaw SatterthwaiteLaw(int k, double sigma2_um2, const Eigen::MatrixXd& Z);
+
 // Root mean square (0 for an empty vector).
 double Rms(const Eigen::VectorXd& r);
 

@@ -192,6 +192,53 @@ TEST(Diagnosis, HoleProbedAtTwoLevelsKeepsItsFirstOrders) {
   EXPECT_LT(out.harmonics[1].amplitude_um, 1e-9);
 }
 
+// A 16-hit circle (radius 100 mm, every 22.5 deg, one minute apart) whose gap is 2 cos(3 phi) um,
+// noise sigma 0.5 um, and a reference whose own uncertainty moves the gap along exactly that
+// pattern with 1 sd (its leftover factor R: one column). Without R, the profile, its order 3
+// and its groups stand out (order 3: z = sqrt(32 um^2) / 0.5 = 11.3; the profile's SSR is 128
+// sigma^2 on 16 points). With R the same gap is what the reference's uncertainty explains at
+// 1 sd: order 3's law is c chi2_d with mean 2 sigma^2 + 32 = 32.5 um^2 and d = 1.02, its
+// Rayleigh-equivalent z about 1.4, the group's near 0: nothing stands out. The drift's u holds
+// R's slope in time, by its definition (least squares of R on [1, t / h]). Tolerances: 1e-9.
+TEST(Diagnosis, WhereTheGapLiesWeighsTheReferencesOwnUncertainty) {
+  const Fixture f = Make();
+  testpieces::MeasuredObservations mo;
+  mo.feature_names = {"S1"};
+  Eigen::VectorXd gap(16);
+  Eigen::MatrixXd T(16, 2);
+  for (int j = 0; j < 16; ++j) {
+    kinematics::Observation o;
+    const double phi = j * M_PI / 8.0;
+    o.cut.nominal_point_mm = Eigen::Vector3d(100.0 * std::cos(phi), 100.0 * std::sin(phi), 50.0);
+    o.cut.axes.t_s = 60.0 * j;
+    gap(j) = 2.0 * std::cos(3.0 * phi);
+    T.row(j) << 1.0, o.cut.axes.t_s / 3600.0;
+    mo.observations.push_back(o);
+  }
+  constexpr double kSigma_um = 0.5;
+  DiagnosisResult plain, weighed;
+  diagnosis_internal::SummariseGap(f.machine, mo, gap, kSigma_um, DiagnosisOptions{}, &plain);
+  diagnosis_internal::SummariseGap(f.machine, mo, gap, kSigma_um, DiagnosisOptions{}, &weighed, gap);
+  auto order3 = [](const DiagnosisResult& d) {
+    for (const auto& h : d.harmonics)
+      if (h.order == 3) return h;
+    return HarmonicGap{};
+  };
+  EXPECT_NEAR(order3(plain).z, std::sqrt(32.0) / kSigma_um, 1e-9);
+  EXPECT_TRUE(order3(plain).stands_out);
+  EXPECT_TRUE(std::count(plain.standing_out.begin(), plain.standing_out.end(), "feature S1"));
+  EXPECT_NEAR(order3(weighed).energy_um2, 32.0, 1e-9);
+  EXPECT_GT(order3(weighed).z, 1.0);
+  EXPECT_LT(order3(weighed).z, 2.0);
+  EXPECT_TRUE(weighed.standing_out.empty()) << weighed.standing_out.front();
+  ASSERT_FALSE(weighed.by_feature.empty());
+  EXPECT_LT(std::abs(weighed.by_feature.front().z), 1.0);
+  const Eigen::MatrixXd G = (T.transpose() * T).inverse() * T.transpose();
+  const double u_noise = kSigma_um * std::sqrt((T.transpose() * T).inverse()(1, 1));
+  EXPECT_NEAR(plain.drift_u_um_per_h, u_noise, 1e-9);
+  EXPECT_NEAR(weighed.drift_u_um_per_h, std::hypot(u_noise, G.row(1).dot(gap)), 1e-9);
+}
+
 // "Where it lies": the C harmonics of each circular profile, the groups by operation and by A
 // index, recomputed here from their definitions on the diagnosis's own gap (truth: the
 // definitions, the profile's circle and harmonics by Householder least squares; tolerance 1e-9
