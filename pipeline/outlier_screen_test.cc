@@ -194,6 +194,38 @@ TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
   EXPECT_EQ(without.flag[10], ScreenFlag::kOutlier);
 }
 
+// The screen with a reference's leftover uncertainty (its factor R, as against a probing test's
+// maps): 400 hits as above (seed 187), a bump of 4 and 4 sigma on hits 40 and 41 (sum / sqrt 2 =
+// 5.7 sigma: a local defect against the noise alone), where the reference may move both together
+// by 1 sigma (R: one column, sigma at 40 and 41). Truth: with R the pair's sum (8 sigma) lies
+// within 4.5 sqrt(2 sigma^2 + (2 sigma)^2) = 11 sigma, so it is kept; a gross outlier of 15 sigma
+// on hit 200, which R also moves by 1 sigma, stays an outlier (bounds 6.4 and 6.8 sigma).
+TEST(OutlierScreen, WhatAReferencesOwnUncertaintyMovesIsNoLocalDefect) {
+  std::mt19937_64 rng(187);
+  const int n = 400;
+  std::vector<kinematics::Observation> obs(n);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
+    y(i) = StandardNormal(rng);
+  }
+  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(n, 1);
+  const double sigma = ScreenOutliers(X, y, obs, {}).sigma_um;
+  y(40) = 4.0 * sigma, y(41) = 4.0 * sigma, y(200) = 15.0 * sigma;
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, 1);
+  R(40, 0) = R(41, 0) = R(200, 0) = sigma;
+  const OutlierScreen alone = ScreenOutliers(X, y, obs, {});
+  ASSERT_EQ(alone.patches.size(), 1u);
+  EXPECT_EQ(alone.patches.front().members, (std::vector<int>{40, 41}));
+  EXPECT_EQ(alone.flag[200], ScreenFlag::kOutlier);
+  const OutlierScreen weighed = ScreenOutliers(X, y, obs, {}, R);
+  EXPECT_TRUE(weighed.patches.empty());
+  EXPECT_EQ(weighed.flag[40], ScreenFlag::kKept);
+  EXPECT_EQ(weighed.flag[41], ScreenFlag::kKept);
+  EXPECT_EQ(weighed.flag[200], ScreenFlag::kOutlier);
+  EXPECT_EQ(weighed.CountFlagged(), 1);
+}
+
 // A validation trial's piece (tests/data/points/dent_on_h2_sextic_verdict.csv: 0.5 um noise, a
 // dent of 2 hits on H2 at 5 and 3.5 sigma) whose first verdict is the sextic straightness: the
 // second screen's model then holds that candidate's raw monomials x^2..x^6 (column norms 1e4 to

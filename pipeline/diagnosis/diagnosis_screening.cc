@@ -18,9 +18,9 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
   if (effect) {
     Eigen::MatrixXd X(fit.basis.U.rows(), fit.basis.U.cols() + effect->cols());
     X << fit.basis.U, *effect;
-    in.screen = ScreenOutliers(X, fit.y, mo.observations, screen);
+    in.screen = ScreenOutliers(X, fit.y, mo.observations, screen, fit.reference_remaining_um);
   } else {
-    in.screen = ScreenOutliers(fit.basis.U, fit.y, mo.observations, screen);
+    in.screen = ScreenOutliers(fit.basis.U, fit.y, mo.observations, screen, fit.reference_remaining_um);
   }
   in.left_out = options.screen_outliers && in.screen.CountFlagged() > 0;
   if (!in.left_out) return in;

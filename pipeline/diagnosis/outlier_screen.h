@@ -81,11 +81,14 @@ struct OutlierScreen {
 
 // Screens the observations: X (n x p, any scaling; rank-deficient allowed) the linear model, y
 // (n) the deviations to explain (um), observations for their groups and nominal positions. With
-// fewer than 3 points in a feature its points are never flagged. Never fails: a design with no
-// residual freedom flags nothing.
+// fewer than 3 points in a feature its points are never flagged. With a reference's leftover
+// uncertainty off X (its factor, n x r, um: BaseFit::reference_remaining_um; no column: none), a
+// fault's tests weigh the variance it adds to a hit, to its departure from its neighbours and to
+// a patch's sum beside the noise's. Never fails: a design with no residual freedom flags nothing.
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations,
-                             const OutlierScreenOptions& options = {});
+                             const OutlierScreenOptions& options = {},
+                             const Eigen::MatrixXd& reference_remaining_um = Eigen::MatrixXd());
 
 // The reason a flagged observation is left out, for listings: "outlier: 12.3 um from the model,
 // 11.8 um from its 4 neighbours (noise 0.50 um)" or "local defect: one of 3 points on S2 ...".
