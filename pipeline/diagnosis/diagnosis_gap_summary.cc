@@ -125,9 +125,10 @@ void FitDrift(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const std::ve
   if (std::abs(TtT.determinant()) > 1e-12) {
     const Eigen::Vector2d beta = TtT.ldlt().solve(T.transpose() * r0);
     out->drift_um_per_h = beta(1);
-    out->drift_u_um_per_h = s * std::sqrt(TtT.inverse()(1, 1));
+    const Eigen::Matrix2d inverse = TtT.inverse();
+    out->drift_u_um_per_h = s * std::sqrt(inverse(1, 1));
     if (R.cols() > 0) {
-      const Eigen::RowVectorXd slope = (TtT.inverse() * T.transpose()).row(1) * R;  // um/h per factor column
+      const Eigen::RowVectorXd slope = (inverse * T.transpose()).row(1) * R;  // um/h per factor column
       out->drift_u_um_per_h = std::hypot(out->drift_u_um_per_h, slope.norm());
     }
   }
@@ -195,7 +196,7 @@ int DistinctAzimuths(std::vector<double> phi) {
 }
 
 // The least-squares fit of y on [1, cos k phi, sin k phi], k = 1..kmax: coefficients, (X^T X)^-1
-// and the gain (X^T X)^-1 X^T that maps y to them.
+// and, when `gain` is given, (X^T X)^-1 X^T that maps y to them.
 // False when an order's variance exceeds 100 x the equal-spacing 2 / m (its amplitude would be
 // noise: azimuths too uneven or too few for that many orders) or the design is singular.
 bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kmax, Eigen::VectorXd* coef,
@@ -215,7 +216,7 @@ bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kma
   *cov = normal.solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
   if (cov->diagonal().tail(2 * kmax).maxCoeff() > 100.0 * 2.0 / static_cast<double>(m)) return false;
   *coef = normal.solve(X.transpose() * y);
-  *gain = *cov * X.transpose();
+  if (gain) *gain = *cov * X.transpose();
   return true;
 }
 
@@ -236,7 +237,7 @@ double RayleighEquivalentZ(double energy_um2, double sigma, const Eigen::MatrixX
 // accepts (a tilted hole probed at two levels has its azimuths in close pairs). energy = (a, b)
 // C^-1 (a, b)^T, C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s: m A^2 / 2 and
 // A / (s sqrt(2 / m)) on m equally spaced points. With a reference's leftover factor R (n x r),
-// each order's share of it, whitened as the energy is (L^T G R_idx, C^-1 = L L^T, G the order's
+// each order's share of it, whitened as the energy is (L^-1 G R_idx, C = L L^T, G the order's
 // rows of the gain), and z is RayleighEquivalentZ. Appended to *all and *ref_z (2 x 0 without).
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
                       const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0,
@@ -254,7 +255,7 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
   Eigen::VectorXd coef;
   Eigen::MatrixXd cov, gain;
   int kmax = std::min<int>(max_harmonic, DistinctAzimuths(phi) / 2 - 1);
-  while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov, &gain)) --kmax;
+  while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov, R.cols() > 0 ? &gain : nullptr)) --kmax;
   const Eigen::MatrixXd R_idx = RowsOf(R, idx);
   for (int k = 1; k <= kmax; ++k) {
     const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k));
@@ -263,9 +264,10 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
     h.z = s > 0 ? std::sqrt(energy) / s : 0.0;
     Eigen::MatrixXd Z(2, 0);
     if (R.cols() > 0) {
-      const Eigen::Matrix2d c_inv = cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse();
-      const Eigen::Matrix2d L = c_inv.llt().matrixL();
-      Z = L.transpose() * gain.middleRows(2 * k - 1, 2) * R_idx;
+      // C = L L^T: positive definite, since FitOrders accepted X^T X.
+      const Eigen::LLT<Eigen::Matrix2d> c_factor(cov.block<2, 2>(2 * k - 1, 2 * k - 1));
+      assert(c_factor.info() == Eigen::Success);
+      Z = c_factor.matrixL().solve(gain.middleRows(2 * k - 1, 2) * R_idx);
       h.z = s > 0 ? RayleighEquivalentZ(energy, s, Z) : 0.0;
     }
     all->push_back(h);
@@ -290,35 +292,38 @@ void PooledHarmonics(const std::vector<HarmonicGap>& all, const std::vector<Eige
       for (auto i : idx) ssr += r0(i) * r0(i);
       if (R.cols() > 0) ref_ss += RowsOf(R, idx).squaredNorm();
     }
-  std::map<int, std::pair<double, int>> energy;  // order -> S_k, F_k
-  std::map<int, std::vector<std::size_t>> of_order;
+  struct OrderSum {
+    double sum_um2 = 0.0;          // S_k
+    int profiles = 0;              // F_k
+    std::vector<std::size_t> of;   // its harmonics in `all`
+  };
+  std::map<int, OrderSum> energy;
   for (std::size_t j = 0; j < all.size(); ++j) {
     auto& e = energy[all[j].order];
-    e.first += all[j].energy_um2;
-    e.second += 1;
-    of_order[all[j].order].push_back(j);
+    e.sum_um2 += all[j].energy_um2;
+    e.profiles += 1;
+    e.of.push_back(j);
   }
   for (const auto& [k, e] : energy) {
-    const double d1 = 2.0 * e.second, d2 = n - 2.0 * e.second;
-    if (e.second < 2 || d2 <= 30 || ssr - e.first <= 0) continue;
-    double p = FUpperTail((e.first / d1) / ((ssr - e.first) / d2), d1, d2);
+    const double d1 = 2.0 * e.profiles, d2 = n - 2.0 * e.profiles;
+    if (e.profiles < 2 || d2 <= 30 || ssr - e.sum_um2 <= 0) continue;
+    double p = FUpperTail((e.sum_um2 / d1) / ((ssr - e.sum_um2) / d2), d1, d2);
     // and beyond the noise sigma (chi-square with d1 degrees of freedom): on noise-free data
     // the F ratio of rounding residuals is meaningless.
-    double p_noise = s > 0 ? FUpperTail((e.first / d1) / (s * s), d1, 1e12) : 1.0;
+    double p_noise = s > 0 ? FUpperTail((e.sum_um2 / d1) / (s * s), d1, 1e12) : 1.0;
     if (R.cols() > 0) {
-      Eigen::MatrixXd Zk(2 * e.second, R.cols());
-      for (std::size_t j = 0; j < of_order[k].size(); ++j)
-        Zk.middleRows(2 * static_cast<Eigen::Index>(j), 2) = ref_z[of_order[k][j]];
-      const double s2_hat = (ssr - e.first - std::max(0.0, ref_ss - Zk.squaredNorm())) / d2;
+      Eigen::MatrixXd Zk(2 * e.profiles, R.cols());
+      for (std::size_t j = 0; j < e.of.size(); ++j) Zk.middleRows(2 * static_cast<Eigen::Index>(j), 2) = ref_z[e.of[j]];
+      const double s2_hat = (ssr - e.sum_um2 - std::max(0.0, ref_ss - Zk.squaredNorm())) / d2;
       if (!(s2_hat > 0)) continue;
-      const ChiSquareLaw law = SatterthwaiteLaw(2 * e.second, s2_hat, Zk);
-      p = FUpperTail(e.first / law.mean_um2, law.dof, d2);
-      const ChiSquareLaw known = SatterthwaiteLaw(2 * e.second, s * s, Zk);
-      p_noise = s > 0 ? FUpperTail(e.first / known.mean_um2, known.dof, 1e12) : 1.0;
+      const ChiSquareLaw law = SatterthwaiteLaw(2 * e.profiles, s2_hat, Zk);
+      p = FUpperTail(e.sum_um2 / law.mean_um2, law.dof, d2);
+      const ChiSquareLaw known = SatterthwaiteLaw(2 * e.profiles, s * s, Zk);
+      p_noise = s > 0 ? FUpperTail(e.sum_um2 / known.mean_um2, known.dof, 1e12) : 1.0;
     }
     const double bound = 0.01 / static_cast<double>(energy.size());
     if (p < bound && p_noise < bound)
-      out->standing_out.push_back(fmt::format("harmonic {} on {} circular profiles (pooled, p = {:.2g})", k, e.second, p));
+      out->standing_out.push_back(fmt::format("harmonic {} on {} circular profiles (pooled, p = {:.2g})", k, e.profiles, p));
   }
 }
 

@@ -1,6 +1,7 @@
 #include "pipeline/diagnosis/diagnosis_least_squares.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <utility>
 
@@ -77,6 +78,7 @@ double FUpperTail(double f, double d1, double d2) {
 
 ChiSquareLaw SatterthwaiteLaw(int k, double sigma2_um2, const Eigen::MatrixXd& Z) {
   const double k_d = static_cast<double>(k);
+  assert(Z.cols() == 0 || Z.rows() == k);
   if (Z.cols() == 0 || Z.rows() == 0) return {k_d * sigma2_um2, k_d};
   const double tr_a = Z.squaredNorm();  // tr(Z Z^T)
   const double tr_a2 = Z.rows() <= Z.cols() ? (Z * Z.transpose()).squaredNorm() : (Z.transpose() * Z).squaredNorm();

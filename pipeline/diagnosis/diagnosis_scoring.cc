@@ -111,16 +111,16 @@ void BaseShifts(const Columns& C, const Eigen::VectorXd& coef, const Projected& 
   }
 }
 
-// One candidate's scores; its projection and CV trace in *b and *trace.
-// The F test of a candidate's reduction `q` of the gap (um^2) against the noise variance `s2`
-// (um^2, on dof2 degrees of freedom) and, when given, the CMM's noise: without a reference,
-// F = (q / rank) / s2 on (rank, dof2). With one, the reduction also holds the reference's
-// leftover variance along the candidate's directions, whose spread a mean taken off would miss:
-// F = q / the mean of SatterthwaiteLaw, on its d and dof2.
-void ReductionTest(const BaseFit& fit, const Projected& b, double q, double s2, double dof2, double noise_um,
+// The F test of a candidate's reduction `q` of the gap (um^2) along its b.rank directions against
+// the noise variance `s2` (um^2, on dof2 degrees of freedom) and, when given, the CMM's noise:
+// without a reference (Z with no column), F = (q / rank) / s2 on (rank, dof2). With one, the
+// reduction also holds the reference's leftover variance along the candidate's directions (Z:
+// their share of its factor, rank x r), whose spread a mean taken off would miss: F = q / the
+// mean of SatterthwaiteLaw, on its d and dof2.
+void ReductionTest(const Eigen::MatrixXd& Z, const Projected& b, double q, double s2, double dof2, double noise_um,
                    CandidateResult* cr) {
   const double known2 = noise_um * noise_um;
-  if (fit.reference_remaining_um.cols() == 0) {
+  if (Z.cols() == 0) {
     cr->f_stat = (q / b.rank) / s2;
     cr->p_value = FUpperTail(cr->f_stat, b.rank, dof2);
     // With a known CMM noise the reduction must also stand out against it (chi-square with rank
@@ -129,7 +129,6 @@ void ReductionTest(const BaseFit& fit, const Projected& b, double q, double s2, 
     if (noise_um > 0) cr->p_value = std::max(cr->p_value, FUpperTail((q / b.rank) / known2, b.rank, 1e12));
     return;
   }
-  const Eigen::MatrixXd Z = b.U.transpose() * fit.reference_remaining_um;
   const ChiSquareLaw law = SatterthwaiteLaw(b.rank, s2, Z);
   cr->f_stat = q / law.mean_um2;
   cr->p_value = FUpperTail(cr->f_stat, law.dof, dof2);
@@ -139,6 +138,7 @@ void ReductionTest(const BaseFit& fit, const Projected& b, double q, double s2, 
   }
 }
 
+// One candidate's scores; its projection and CV trace in *b and *trace.
 CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, const BaseGap& gap,
                                const std::vector<EffectParameter>& base_parameters, const DiagnosisOptions& options,
                                Projected* b_out, CvTrace* trace) {
@@ -168,9 +168,11 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
   // What a reference's own uncertainty adds to ssr1 (its variance off the candidate's new
   // directions) is taken off it; along them it adds to the reduction's law (ReductionTest).
   // When ssr1 leaves nothing beyond it for the noise, p stays 1 (nothing to test against).
-  const double ref_out = std::max(0.0, fit.reference_var_um2.sum() - ReferenceVarianceAlong(fit, b.U));
+  const Eigen::MatrixXd& R = fit.reference_remaining_um;
+  const Eigen::MatrixXd Z = R.cols() ? Eigen::MatrixXd(b.U.transpose() * R) : Eigen::MatrixXd(b.U.cols(), 0);
+  const double ref_out = std::max(0.0, fit.reference_var_um2.sum() - Z.squaredNorm());
   if (b.rank > 0 && dof1 > 0 && ssr1 > ref_out) {
-    ReductionTest(fit, b, gap.ssr - ssr1, (ssr1 - ref_out) / dof1, dof1, options.noise_um, &cr);
+    ReductionTest(Z, b, gap.ssr - ssr1, (ssr1 - ref_out) / dof1, dof1, options.noise_um, &cr);
     cr.delta_bic = static_cast<double>(n) * std::log(ssr1 / gap.ssr) + b.rank * std::log(static_cast<double>(n));
   }
   const Eigen::VectorXd coef = EffectParameters(cc, b, r0, ssr1, dof1, &cr);

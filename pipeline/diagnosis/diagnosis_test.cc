@@ -198,7 +198,7 @@ TEST(Diagnosis, HoleProbedAtTwoLevelsKeepsItsFirstOrders) {
 // and its groups stand out (order 3: z = sqrt(32 um^2) / 0.5 = 11.3; the profile's SSR is 128
 // sigma^2 on 16 points). With R the same gap is what the reference's uncertainty explains at
 // 1 sd: order 3's law is c chi2_d with mean 2 sigma^2 + 32 = 32.5 um^2 and d = 1.02, its
-// Rayleigh-equivalent z about 1.4, the group's near 0: nothing stands out. The drift's u holds
+// Rayleigh-equivalent z 1.50, the group's z 0.33: nothing stands out. The drift's u holds
 // R's slope in time, by its definition (least squares of R on [1, t / h]). Tolerances: 1e-9.
 TEST(Diagnosis, WhereTheGapLiesWeighsTheReferencesOwnUncertainty) {
   const Fixture f = Make();

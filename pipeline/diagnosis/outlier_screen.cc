@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <deque>
 #include <fmt/format.h>
@@ -125,47 +126,42 @@ struct ScreenContext {
   const Eigen::MatrixXd& R;
 };
 
-// IsFault with a reference's leftover uncertainty: a hit beyond seed_z sqrt(sigma^2 + |R_i|^2)
-// departing from its neighbours beyond seed_z sqrt(sigma^2 (1 + v_k) + |R_i - mean R_nb|^2), a
-// patch's sum beyond seed_z sqrt(m sigma^2 + |sum R_i|^2).
-bool IsFaultBeyondReference(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
-  const double z = c.o.seed_z, s2 = s.sigma_um * s.sigma_um;
-  Eigen::RowVectorXd sum_R = Eigen::RowVectorXd::Zero(c.R.cols());
-  double sum = 0.0;
-  for (int i : comp) sum += s.residual_um(i), sum_R += c.R.row(i);
-  if (comp.size() == 1) {
-    const int i = comp.front();
-    const auto& nb = c.nb[static_cast<std::size_t>(i)];
-    Eigen::RowVectorXd around = Eigen::RowVectorXd::Zero(c.R.cols());
-    for (int j : nb) around += c.R.row(j) / static_cast<double>(nb.size());
-    const double v = MedianVariance(nb.size());
-    const double d_var = s2 * (1.0 + v) + (nb.empty() ? 0.0 : (c.R.row(i) - around).squaredNorm());
-    return std::abs(sum) > z * std::sqrt(s2 + sum_R.squaredNorm()) &&
-           std::abs(s.neighbour_dev_um(i)) > z * std::sqrt(d_var);
-  }
-  const double m = static_cast<double>(comp.size());
-  return std::abs(sum) > z * std::sqrt(m * s2 + sum_R.squaredNorm());
+// What a reference's leftover uncertainty adds to the variance of the sum of the residuals over
+// `comp` (|sum of R's rows|^2, um^2; 0 without one).
+double ReferenceVariance(const ScreenContext& c, const std::vector<int>& comp) {
+  if (c.R.cols() == 0) return 0.0;
+  Eigen::RowVectorXd sum = Eigen::RowVectorXd::Zero(c.R.cols());
+  for (int i : comp) sum += c.R.row(i);
+  return sum.squaredNorm();
 }
 
-// Is a component a fault (an isolated outlier or a small patch) rather than systematic?
+// The same for point i's departure from its neighbours (|R_i - their mean R|^2, um^2; 0 without).
+double ReferenceDepartureVariance(const ScreenContext& c, int i) {
+  const auto& nb = c.nb[static_cast<std::size_t>(i)];
+  if (c.R.cols() == 0 || nb.empty()) return 0.0;
+  Eigen::RowVectorXd around = Eigen::RowVectorXd::Zero(c.R.cols());
+  for (int j : nb) around += c.R.row(j) / static_cast<double>(nb.size());
+  return (c.R.row(i) - around).squaredNorm();
+}
+
+// Is a component a fault (an isolated outlier or a small patch) rather than systematic? Its
+// bounds are seed_z sigma, scaled by what a reference's leftover uncertainty adds (exactly 1
+// without one).
 bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
   const int n_g = c.group_size.at(c.obs[static_cast<std::size_t>(comp.front())].group);
   if (n_g < 3) return false;
-  const double limit = c.o.seed_z * s.sigma_um;
-  if (c.R.cols() > 0)
-    return (comp.size() == 1 || (static_cast<int>(comp.size()) <= c.o.max_patch_points &&
-                                 static_cast<double>(comp.size()) <= c.o.max_patch_share * n_g)) &&
-           IsFaultBeyondReference(c, s, comp);
+  const double limit = c.o.seed_z * s.sigma_um, s2 = s.sigma_um * s.sigma_um;
   if (comp.size() == 1) {
     const int i = comp.front();
     const double v = MedianVariance(c.nb[static_cast<std::size_t>(i)].size());
-    return std::abs(s.residual_um(i)) > limit && std::abs(s.neighbour_dev_um(i)) > limit * std::sqrt(1.0 + v);
+    return std::abs(s.residual_um(i)) > limit * std::sqrt(1.0 + ReferenceVariance(c, comp) / s2) &&
+           std::abs(s.neighbour_dev_um(i)) > limit * std::sqrt(1.0 + v + ReferenceDepartureVariance(c, i) / s2);
   }
   double sum = 0.0;
   for (int i : comp) sum += s.residual_um(i);
   const double m = static_cast<double>(comp.size());
   return static_cast<int>(comp.size()) <= c.o.max_patch_points && m <= c.o.max_patch_share * n_g &&
-         std::abs(sum) / std::sqrt(m) > limit;
+         std::abs(sum) / std::sqrt(m) > limit * std::sqrt(1.0 + ReferenceVariance(c, comp) / (m * s2));
 }
 
 // The faults among the points not yet flagged, from this round's residuals.
@@ -246,8 +242,8 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations, const OutlierScreenOptions& options,
                              const Eigen::MatrixXd& reference_remaining_um) {
   const Eigen::MatrixXd none(static_cast<Eigen::Index>(observations.size()), 0);
-  const bool with_reference = reference_remaining_um.cols() > 0 &&
-                              reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size());
+  const bool with_reference = reference_remaining_um.cols() > 0;
+  assert(!with_reference || reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
   ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, options,
                   with_reference ? reference_remaining_um : none};
   c.adj = c.nb;  // symmetric neighbour graph

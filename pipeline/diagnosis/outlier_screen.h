@@ -82,7 +82,8 @@ struct OutlierScreen {
 // Screens the observations: X (n x p, any scaling; rank-deficient allowed) the linear model, y
 // (n) the deviations to explain (um), observations for their groups and nominal positions. With
 // fewer than 3 points in a feature its points are never flagged. With a reference's leftover
-// uncertainty off X (its factor, n x r, um: BaseFit::reference_remaining_um; no column: none), a
+// uncertainty (its factor, n rows x r, um: BaseFit::reference_remaining_um, off the base's columns
+// but not off further columns of X, which makes the bounds a little wide; no column: none), a
 // fault's tests weigh the variance it adds to a hit, to its departure from its neighbours and to
 // a patch's sum beside the noise's. Never fails: a design with no residual freedom flags nothing.
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
