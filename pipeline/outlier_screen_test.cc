@@ -160,6 +160,23 @@ TEST(OutlierScreen, BurrOfThreeHitsIsALocalDefect) {
   EXPECT_GE(named, 9);
 }
 
+// 400 hits 1 mm apart along one feature, standard normal deviations (seeded), the model a constant.
+struct LineOfHits {
+  std::vector<kinematics::Observation> obs;
+  Eigen::VectorXd y;
+  Eigen::MatrixXd X;
+};
+LineOfHits HitsAlongALine(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const int n = 400;
+  LineOfHits line{std::vector<kinematics::Observation>(n), Eigen::VectorXd(n), Eigen::MatrixXd::Ones(n, 1)};
+  for (int i = 0; i < n; ++i) {
+    line.obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
+    line.y(i) = StandardNormal(rng);
+  }
+  return line;
+}
+
 // The screen alone on 400 hits 1 mm apart along one feature, normal noise (seed 186), the model a
 // constant; in units of the screen's sigma: a burr of two hits tapering off, 5 and 2.85 (the
 // second below grow_z = 3 sigma, as a 2-hit burr at 5x noise often is), and a gross outlier of
@@ -168,15 +185,7 @@ TEST(OutlierScreen, BurrOfThreeHitsIsALocalDefect) {
 // is below half of it). Without the taper rule (join_floor_z = grow_z) the burr is missed
 // entirely: 5 is no outlier, since its neighbour at 2.85 pulls their median up.
 TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
-  std::mt19937_64 rng(186);
-  const int n = 400;
-  std::vector<kinematics::Observation> obs(n);
-  Eigen::VectorXd y(n);
-  for (int i = 0; i < n; ++i) {
-    obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
-    y(i) = StandardNormal(rng);
-  }
-  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(n, 1);
+  auto [obs, y, X] = HitsAlongALine(186);
   const double sigma = ScreenOutliers(X, y, obs, {}).sigma_um;  // the screen's own noise estimate
   y(40) = 5.0 * sigma, y(41) = 2.85 * sigma, y(10) = 15.0 * sigma, y(11) = 2.85 * sigma;
   const OutlierScreen with_taper = ScreenOutliers(X, y, obs, {});
@@ -201,15 +210,8 @@ TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
 // within 4.5 sqrt(2 sigma^2 + (2 sigma)^2) = 11 sigma, so it is kept; a gross outlier of 15 sigma
 // on hit 200, which R also moves by 1 sigma, stays an outlier (bounds 6.4 and 6.8 sigma).
 TEST(OutlierScreen, WhatAReferencesOwnUncertaintyMovesIsNoLocalDefect) {
-  std::mt19937_64 rng(187);
-  const int n = 400;
-  std::vector<kinematics::Observation> obs(n);
-  Eigen::VectorXd y(n);
-  for (int i = 0; i < n; ++i) {
-    obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
-    y(i) = StandardNormal(rng);
-  }
-  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(n, 1);
+  auto [obs, y, X] = HitsAlongALine(187);
+  const auto n = y.size();
   const double sigma = ScreenOutliers(X, y, obs, {}).sigma_um;
   y(40) = 4.0 * sigma, y(41) = 4.0 * sigma, y(200) = 15.0 * sigma;
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, 1);

@@ -221,7 +221,7 @@ bool FitOrders(const std::vector<double>& phi, const Eigen::VectorXd& y, int kma
 }
 
 // The Rayleigh score of a profile order's energy (um^2) under noise of sigma and a reference's
-// leftover part of whitened factor Z (2 x r, HarmonicReference): the z whose chi2_2 value
+// leftover part of whitened factor Z (2 x r, ProfileHarmonics): the z whose chi2_2 value
 // has the normal score (ChiSquareZ) that energy has against SatterthwaiteLaw's c chi2_d.
 double RayleighEquivalentZ(double energy_um2, double sigma, const Eigen::MatrixXd& Z) {
   const double zn = SpreadZ(energy_um2, 2, sigma, Z);
