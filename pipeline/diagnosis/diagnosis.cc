@@ -96,7 +96,7 @@ Result<DiagnosisResult> DiagnoseKept(const testpieces::TestPiece& piece, const k
 }
 
 // The columns on every observation of the candidate named `name`, or nullopt.
-std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, const std::string& name) {
+std::optional<Eigen::MatrixXd> CandidateColumns(const CandidateCatalogue& all, const std::string& name) {
   for (const auto& c : all.candidates) {
     if (c.name != name) continue;
     Eigen::MatrixXd m(c.col(0).size(), c.cols());
@@ -106,11 +106,25 @@ std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, con
   return std::nullopt;
 }
 
+// The columns of the effect the verdict names: its candidate's, and the pair's second candidate's
+// when the verdict names that family too (nullopt: the verdict's candidate is not in `all`).
+std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, const DiagnosisResult& d) {
+  auto leading = CandidateColumns(all, d.verdict.name);
+  const bool pair = d.verdict.also && d.pair && d.pair->names.size() == 2 && d.pair->families[1] == *d.verdict.also;
+  if (!leading || !pair) return leading;
+  const auto second = CandidateColumns(all, d.pair->names[1]);
+  if (!second) return leading;
+  Eigen::MatrixXd both(leading->rows(), leading->cols() + second->cols());
+  both << *leading, *second;
+  return both;
+}
+
 // The diagnosis (diagnosis.h): the base fitted to every point, the outlier screen, then the
 // diagnosis of the points it keeps. When points were left out and the verdict is an effect of
-// the catalogue, the screen is run again with that effect in the model (on a piece of 8-point
-// circles a 3-lobe error motion looks point by point like isolated faults; only the model of the
-// whole piece tells): if it flags other points, the diagnosis is made again on what it keeps.
+// the catalogue, the screen is run again with that effect in the model (with both of a pair the
+// verdict names: a servo glitch beside a drift is an outlier to the drift alone; on a piece of
+// 8-point circles a 3-lobe error motion looks point by point like isolated faults; only the model
+// of the whole piece tells): if it flags other points, the diagnosis is made again on what it keeps.
 // `reference_dev_um` (per observation, or null): the point reference's normal deviations,
 // subtracted from the measured ones (DiagnoseAgainstPoints).
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
@@ -133,7 +147,7 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   if (!first.ok() || !screened.left_out || !IsCatalogueFamily(first->verdict.family)) return first;
   auto all = BuildCandidates(piece, machine, fit->errors, mo, base_names, reference_mode, fit->design.get());
   if (!all.ok()) return all.status();
-  const auto effect = VerdictColumns(*all, first->verdict.name);
+  const auto effect = VerdictColumns(*all, *first);
   if (!effect) return first;
   const step::ScreenedInput again = step::ScreenBaseFit(*fit, mo, options, reference_dev_um, &*effect);
   if (again.screen.flag == screened.screen.flag) return first;
