@@ -112,9 +112,13 @@ std::string ReferenceHeld(const BaseFit& fit, const DiagnosisOptions& options) {
 
 }  // namespace
 
-double ReferenceVarianceAlong(const BaseFit& fit, const Eigen::MatrixXd& U) {
+Eigen::MatrixXd ReferenceShareAlong(const BaseFit& fit, const Eigen::MatrixXd& U) {
   const Eigen::MatrixXd& R = fit.reference_remaining_um;
-  return R.cols() ? (U.transpose() * R).squaredNorm() : 0.0;
+  return R.cols() ? Eigen::MatrixXd(U.transpose() * R) : Eigen::MatrixXd(U.cols(), 0);
+}
+
+double ReferenceVarianceAlong(const BaseFit& fit, const Eigen::MatrixXd& U) {
+  return ReferenceShareAlong(fit, U).squaredNorm();
 }
 
 double SsrBeyondReference(const BaseFit& fit, double ssr) { return std::max(0.0, ssr - fit.reference_var_um2.sum()); }

@@ -54,8 +54,11 @@ struct BaseFit {
   std::shared_ptr<const kinematics::SlotDesign> design;
 };
 
-// The variance a reference's own uncertainty adds along the orthonormal directions `U` (n x k,
-// columns a candidate's or the verdict's; um^2): what fitting them takes of it. 0 without one.
+// A reference's own uncertainty along the orthonormal directions `U` (n x k, columns a
+// candidate's or the verdict's): U^T R, k x r factor columns in um (k x 0 without a reference).
+Eigen::MatrixXd ReferenceShareAlong(const BaseFit& fit, const Eigen::MatrixXd& U);
+
+// The variance it adds along `U` (um^2, |U^T R|^2): what fitting them takes of it. 0 without one.
 double ReferenceVarianceAlong(const BaseFit& fit, const Eigen::MatrixXd& U);
 
 // `ssr` less what a reference's own uncertainty is expected to add to it (um^2, at least 0).

@@ -353,9 +353,8 @@ void SummariseGap(const kinematics::MachineModel& machine, const testpieces::Mea
                   const Eigen::MatrixXd& reference_remaining_um) {
   const GapGroups groups = GroupGapPoints(machine, mo);
   const double z = options.stand_out_z;
-  const Eigen::MatrixXd none(r0.size(), 0);
-  const Eigen::MatrixXd& R = reference_remaining_um.cols() > 0 ? reference_remaining_um : none;
-  assert(R.rows() == r0.size());
+  const Eigen::MatrixXd& R = reference_remaining_um;  // no column: none (any row count)
+  assert(R.cols() == 0 || R.rows() == r0.size());
   GroupStats(groups.by_feature, r0, R, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
   GroupStats(groups.by_op, r0, R, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
   GroupStats(groups.by_a, r0, R, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");

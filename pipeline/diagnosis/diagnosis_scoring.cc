@@ -168,8 +168,7 @@ CandidateResult ScoreCandidate(const CandidateColumns& cc, const BaseFit& fit, c
   // What a reference's own uncertainty adds to ssr1 (its variance off the candidate's new
   // directions) is taken off it; along them it adds to the reduction's law (ReductionTest).
   // When ssr1 leaves nothing beyond it for the noise, p stays 1 (nothing to test against).
-  const Eigen::MatrixXd& R = fit.reference_remaining_um;
-  const Eigen::MatrixXd Z = R.cols() ? Eigen::MatrixXd(b.U.transpose() * R) : Eigen::MatrixXd(b.U.cols(), 0);
+  const Eigen::MatrixXd Z = ReferenceShareAlong(fit, b.U);
   const double ref_out = std::max(0.0, fit.reference_var_um2.sum() - Z.squaredNorm());
   if (b.rank > 0 && dof1 > 0 && ssr1 > ref_out) {
     ReductionTest(Z, b, gap.ssr - ssr1, (ssr1 - ref_out) / dof1, dof1, options.noise_um, &cr);

@@ -241,11 +241,10 @@ std::vector<int> OutlierScreen::KeptIndices() const {
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations, const OutlierScreenOptions& options,
                              const Eigen::MatrixXd& reference_remaining_um) {
-  const Eigen::MatrixXd none(static_cast<Eigen::Index>(observations.size()), 0);
-  const bool with_reference = reference_remaining_um.cols() > 0;
-  assert(!with_reference || reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
+  assert(reference_remaining_um.cols() == 0 ||
+         reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
   ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, options,
-                  with_reference ? reference_remaining_um : none};
+                  reference_remaining_um};
   c.adj = c.nb;  // symmetric neighbour graph
   for (std::size_t i = 0; i < c.nb.size(); ++i)
     for (int j : c.nb[i]) {
