@@ -96,7 +96,7 @@ Result<DiagnosisResult> DiagnoseKept(const testpieces::TestPiece& piece, const k
 }
 
 // The columns on every observation of the candidate named `name`, or nullopt.
-std::optional<Eigen::MatrixXd> CandidateColumns(const CandidateCatalogue& all, const std::string& name) {
+std::optional<Eigen::MatrixXd> CandidateMatrix(const CandidateCatalogue& all, const std::string& name) {
   for (const auto& c : all.candidates) {
     if (c.name != name) continue;
     Eigen::MatrixXd m(c.col(0).size(), c.cols());
@@ -109,10 +109,10 @@ std::optional<Eigen::MatrixXd> CandidateColumns(const CandidateCatalogue& all, c
 // The columns of the effect the verdict names: its candidate's, and the pair's second candidate's
 // when the verdict names that family too (nullopt: the verdict's candidate is not in `all`).
 std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, const DiagnosisResult& d) {
-  auto leading = CandidateColumns(all, d.verdict.name);
+  auto leading = CandidateMatrix(all, d.verdict.name);
   const bool pair = d.verdict.also && d.pair && d.pair->names.size() == 2 && d.pair->families[1] == *d.verdict.also;
   if (!leading || !pair) return leading;
-  const auto second = CandidateColumns(all, d.pair->names[1]);
+  const auto second = CandidateMatrix(all, d.pair->names[1]);
   if (!second) return leading;
   Eigen::MatrixXd both(leading->rows(), leading->cols() + second->cols());
   both << *leading, *second;
