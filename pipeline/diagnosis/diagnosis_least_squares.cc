@@ -78,13 +78,18 @@ double FUpperTail(double f, double d1, double d2) {
 
 ChiSquareLaw SatterthwaiteLaw(int k, double sigma2_um2, const Eigen::MatrixXd& Z) {
   const double k_d = static_cast<double>(k);
-  assert(Z.cols() == 0 || Z.rows() == k);
+  assert(Z.cols() == 0 || Z.rows() >= k);
   if (Z.cols() == 0 || Z.rows() == 0) return {k_d * sigma2_um2, k_d};
   const double tr_a = Z.squaredNorm();  // tr(Z Z^T)
   const double tr_a2 = Z.rows() <= Z.cols() ? (Z * Z.transpose()).squaredNorm() : (Z.transpose() * Z).squaredNorm();
   const double mean = k_d * sigma2_um2 + tr_a;
   const double half_var = k_d * sigma2_um2 * sigma2_um2 + 2.0 * sigma2_um2 * tr_a + tr_a2;
   return {mean, half_var > 0 ? mean * mean / half_var : k_d};
+}
+
+double EstimatedMeanDof(const ChiSquareLaw& law, int k, double sigma2_um2, double dof2) {
+  const double noise = static_cast<double>(k) * sigma2_um2;
+  return noise > 0 ? dof2 * (law.mean_um2 / noise) * (law.mean_um2 / noise) : dof2;
 }
 
 double Rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }

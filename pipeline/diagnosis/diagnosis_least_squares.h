@@ -37,13 +37,20 @@ void Solve(const Basis& b, const Eigen::VectorXd& y, double s2, Eigen::VectorXd*
 double FUpperTail(double f, double d1, double d2);
 
 // The law of a sum of squares of k components holding noise of variance sigma2_um2 each and a
-// correlated part of covariance Z Z^T (Z: k x r, um): c chi2_d with its mean and variance
-// (Satterthwaite), returned as the mean c d (um^2) and d. Z with no column: k sigma2, k.
+// correlated part of covariance Z Z^T (Z: k x r, um; or m >= k rows, coordinates of a larger
+// space whose columns lie in the components' k-dimensional subspace, e.g. a residual's): c chi2_d
+// with its mean and variance (Satterthwaite), returned as the mean c d (um^2) and d. Z with no
+// column: k sigma2, k.
 struct ChiSquareLaw {
   double mean_um2 = 0.0;
   double dof = 0.0;
 };
 ChiSquareLaw SatterthwaiteLaw(int k, double sigma2_um2, const Eigen::MatrixXd& Z);
+
+// The degrees of freedom of `law`'s mean as the denominator of an F ratio when only its noise
+// part k sigma2_um2 is estimated (on dof2) and the correlated part is known: the mean's relative
+// variance is sigma2's scaled by k sigma2 / mean, so dof2 (mean / k sigma2)^2 (dof2 without Z).
+double EstimatedMeanDof(const ChiSquareLaw& law, int k, double sigma2_um2, double dof2);
 
 // Root mean square (0 for an empty vector).
 double Rms(const Eigen::VectorXd& r);

@@ -116,7 +116,8 @@ void BaseShifts(const Columns& C, const Eigen::VectorXd& coef, const Projected& 
 // without a reference (Z with no column), F = (q / rank) / s2 on (rank, dof2). With one, the
 // reduction also holds the reference's leftover variance along the candidate's directions (Z:
 // their share of its factor, rank x r), whose spread a mean taken off would miss: F = q / the
-// mean of SatterthwaiteLaw, on its d and dof2.
+// mean of SatterthwaiteLaw, on its d and the mean's own (EstimatedMeanDof: s2 is its only
+// estimated part).
 void ReductionTest(const Eigen::MatrixXd& Z, const Projected& b, double q, double s2, double dof2, double noise_um,
                    CandidateResult* cr) {
   const double known2 = noise_um * noise_um;
@@ -131,7 +132,7 @@ void ReductionTest(const Eigen::MatrixXd& Z, const Projected& b, double q, doubl
   }
   const ChiSquareLaw law = SatterthwaiteLaw(b.rank, s2, Z);
   cr->f_stat = q / law.mean_um2;
-  cr->p_value = FUpperTail(cr->f_stat, law.dof, dof2);
+  cr->p_value = FUpperTail(cr->f_stat, law.dof, EstimatedMeanDof(law, b.rank, s2, dof2));
   if (noise_um > 0) {
     const ChiSquareLaw known = SatterthwaiteLaw(b.rank, known2, Z);
     cr->p_value = std::max(cr->p_value, FUpperTail(q / known.mean_um2, known.dof, 1e12));

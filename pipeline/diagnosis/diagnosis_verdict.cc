@@ -235,14 +235,18 @@ namespace {
 constexpr double kExcessRatio = 1.15;
 
 // p-value of "the base gap is noise of the neighbour sigma": F = (SSR / dof) / sigma^2 against
-// the MAD's effective degrees of freedom (0.37 n); SSR less what a reference's own uncertainty
-// adds (BaseFit::reference_var_um2).
+// the MAD's effective degrees of freedom (0.37 n). With a reference's leftover uncertainty (its
+// factor, off every fitted column) SSR's law is SatterthwaiteLaw's of noise on dof and that
+// factor: F = SSR / its mean on its d and the mean's own (EstimatedMeanDof).
 double ExcessPValue(const VerdictInputs& in, double sigma_um) {
   const auto n = static_cast<double>(in.gap.r.size());
   const double dof = n - in.fit.basis.rank;
   if (sigma_um <= 0 || dof <= 0) return 1.0;
-  const double f = (SsrBeyondReference(in.fit, in.gap.ssr) / dof) / (sigma_um * sigma_um);
-  return FUpperTail(f, dof, 0.37 * n);
+  const Eigen::MatrixXd& R = in.fit.reference_remaining_um;
+  if (R.cols() == 0) return FUpperTail((in.gap.ssr / dof) / (sigma_um * sigma_um), dof, 0.37 * n);
+  const double s2 = sigma_um * sigma_um;
+  const ChiSquareLaw law = SatterthwaiteLaw(static_cast<int>(dof), s2, R);
+  return FUpperTail(in.gap.ssr / law.mean_um2, law.dof, EstimatedMeanDof(law, static_cast<int>(dof), s2, 0.37 * n));
 }
 
 std::string DefectName(const LocalDefect& d) {
