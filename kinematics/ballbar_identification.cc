@@ -420,4 +420,34 @@ Result<BallbarIdentification> IdentifyBallbar(const MachineModel& model,
   return out;
 }
 
+Result<Eigen::MatrixXd> BallbarMapResponse(const MachineModel& model, const std::vector<BallbarGeometry>& installations,
+                                           const std::vector<BallbarReading>& readings,
+                                           const std::vector<std::string>& errors,
+                                           const BallbarIdentificationOptions& options) {
+  Eigen::MatrixXd out;
+  Workspace ws;
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    ErrorState unit(model);
+    auto active = ActivateParameters(model, &unit, {errors[k]});
+    if (!active.ok()) return active.status();
+    const int c = active->coefficients.front();
+    unit.set_coefficient(c, 1.0 / unit.coefficient_info(c).display_per_internal);
+    std::vector<BallbarReading> alone = readings;
+    for (BallbarReading& r : alone) {
+      if (r.installation < 0 || r.installation >= static_cast<int>(installations.size()))
+        return Status(StatusCode::kInvalidArgument, "a ball-bar reading names no installation");
+      auto dl = SimulateBallbarDlUm(model, unit, installations[static_cast<std::size_t>(r.installation)], r.angle_deg,
+                                    r.t_s, &ws);
+      if (!dl.ok()) return dl.status();
+      r.dl_um = *dl;
+    }
+    auto id = IdentifyBallbar(model, installations, alone, options);
+    if (!id.ok()) return id.status();
+    if (k == 0) out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(id->entries.size()), static_cast<Eigen::Index>(errors.size()));
+    for (std::size_t i = 0; i < id->entries.size(); ++i)
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = id->entries[i].value;
+  }
+  return out;
+}
+
 }  // namespace tpcal::kinematics

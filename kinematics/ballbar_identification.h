@@ -107,4 +107,15 @@ Result<BallbarIdentification> IdentifyBallbar(const MachineModel& model,
                                               const std::vector<BallbarReading>& readings,
                                               const BallbarIdentificationOptions& options = {});
 
+// How IdentifyBallbar folds errors its model lacks into the maps: for each of `errors` (catalog
+// names of position-independent errors, e.g. the linear axes' squareness, which the turned axis's
+// motions take in part), the entries' values (display units, entry order, one column each) it
+// reports from the bar-length changes 1 display unit of that error alone causes at the readings'
+// installations and angles (the readings' own dl_um unused). Errors: an unknown or repeated name,
+// SimulateBallbarDlUm's, IdentifyBallbar's.
+Result<Eigen::MatrixXd> BallbarMapResponse(const MachineModel& model, const std::vector<BallbarGeometry>& installations,
+                                           const std::vector<BallbarReading>& readings,
+                                           const std::vector<std::string>& errors,
+                                           const BallbarIdentificationOptions& options = {});
+
 }  // namespace tpcal::kinematics

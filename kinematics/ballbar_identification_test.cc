@@ -20,6 +20,7 @@
 #include "core/portable_random.h"
 #include "core/units.h"
 #include "kinematics/ballbar_setup.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/machine_yaml.h"
 
 namespace tpcal::kinematics {
@@ -132,6 +133,37 @@ TEST(BallbarIdentification, ZeroErrorsGiveZeroMaps) {
   EXPECT_TRUE(r->periodic);
   for (const BallbarErrorEntry& e : r->entries) EXPECT_NEAR(e.value, 0.0, kBbiTZeroTol) << e.coefficient;
   for (const BallbarSetupTerm& s : r->setup_terms) EXPECT_NEAR(s.value_um, 0.0, kBbiTZeroTol) << s.name;
+}
+
+// The linear axes' squareness is not in the ball bar's model: on seed 003's seven C
+// installations (bhead_ctable) 15, -12 and 10 urad of E_C(0X)Y, E_B(0X)Z, E_A(0Y)Z alone leave C
+// maps of several um. BallbarMapResponse (one column per display unit of each) times those values
+// must be the maps IdentifyBallbar gives: the identification is linear, and the chain's second
+// order is about (15 urad x 500 mm)^2 / 150 mm = 4e-4 um (tolerance 1e-3 um / urad; measured
+// 1.7e-4 at most).
+TEST(BallbarIdentification, MapResponseIsWhatTheSquarenessLeavesInTheMaps) {
+  const MachineModel m = BbiTMachine();
+  const auto gs = BbiTCInstallations(m);
+  const std::vector<std::string> names = LinearSquarenessSet();
+  const Eigen::Vector3d values_urad(15.0, -12.0, 10.0);
+  ErrorState e(m);
+  auto active = ActivateParameters(m, &e, names);
+  ASSERT_TRUE(active.ok()) << active.status().ToString();
+  for (int k = 0; k < 3; ++k) e.set_coefficient(active->coefficients[k], values_urad(k) * 1e-6);
+  const auto readings = BbiTSimulate(m, e, gs, nullptr, 0.0);
+  auto r = IdentifyBallbar(m, gs, readings);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  auto response = BallbarMapResponse(m, gs, readings, names);
+  ASSERT_TRUE(response.ok()) << response.status().ToString();
+  ASSERT_EQ(response->rows(), static_cast<Eigen::Index>(r->entries.size()));
+  const Eigen::VectorXd predicted = *response * values_urad;
+  double largest = 0.0;
+  for (std::size_t i = 0; i < r->entries.size(); ++i) {
+    EXPECT_NEAR(predicted(static_cast<Eigen::Index>(i)), r->entries[i].value, 1e-3) << r->entries[i].coefficient;
+    largest = std::max(largest, std::abs(r->entries[i].value));
+  }
+  EXPECT_GT(largest, 1.0) << "the squareness leaves nothing in the maps";
+  EXPECT_FALSE(BallbarMapResponse(m, gs, readings, {"E_Q(0X)Y"}).ok());
 }
 
 TEST(BallbarIdentification, RandomTruthWithinItsUncertainty) {

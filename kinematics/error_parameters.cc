@@ -234,9 +234,11 @@ std::vector<std::string> IsoLocationSet(const MachineModel& model) {
       break;
     case MachineType::kXyz: break;
   }
-  for (const char* s : {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"}) out.push_back(s);
+  for (std::string& s : LinearSquarenessSet()) out.push_back(std::move(s));
   return out;
 }
+
+std::vector<std::string> LinearSquarenessSet() { return {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"}; }
 
 std::vector<std::string> Seed002Set(const MachineModel& model) {
   if (model.type != MachineType::kAcTable) return {};

@@ -67,6 +67,8 @@ Result<ParameterInfo> LookupParameter(const MachineModel& model, std::string_vie
 //   bhead_ctable: E_X0B E_Z0B E_A0B E_C0B E_B0B, E_X0C E_Y0C E_A0C E_B0C;  xyz: squareness only.
 // Whether a given test piece can separate them is for identification to report.
 std::vector<std::string> IsoLocationSet(const MachineModel& model);
+// The three squareness errors of the linear axes: E_C(0X)Y, E_B(0X)Z, E_A(0Y)Z.
+std::vector<std::string> LinearSquarenessSet();
 // Seed 002 Table 2 (ac_table only; empty otherwise): dx_CR(0), dy_CR(0), alpha_CR(0),
 // beta_CR(0), dy_AR(-90), dz_AR(-90), dy_CA(-90), alpha_CR(-90), gamma_CR(-90), beta_ZX, alpha_ZY.
 std::vector<std::string> Seed002Set(const MachineModel& model);

@@ -29,6 +29,7 @@
 
 #include "core/status.h"
 #include "kinematics/axis_state.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/error_state.h"
 #include "kinematics/identification.h"
 #include "kinematics/machine_model.h"
@@ -67,7 +68,7 @@ struct TablePoseOptions {
   // shears the probed volume, which no rigid pose of the table explains but each pose would take
   // in part. Fitted only when the touches determine every one of them (else none is, and each is
   // reported not identifiable). Empty: the linear axes taken as error-free (seed 000's model).
-  std::vector<std::string> linear_errors = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
+  std::vector<std::string> linear_errors = LinearSquarenessSet();
   // The stylus ball radius (mm): a touch's linear command is its contact minus radius x approach.
   double probe_radius_mm = 3.0;
 };

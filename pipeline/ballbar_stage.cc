@@ -5,6 +5,7 @@
 
 #include "kinematics/ballbar.h"
 #include "kinematics/ballbar_setup.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/ballbar_machine.h"
 #include "pipeline/io/ballbar_io.h"
@@ -144,6 +145,13 @@ Result<BallbarReport> RunBallbarStage(const BallbarRequest& r) {
       return s.file().empty() ? s.WithLocation(r.path, s.line()) : s;
     }
     BallbarAxisReport axis(std::move(*result));
+    for (const std::string& name : r.map_response_to)
+      if (kinematics::LookupParameter(*machine, name).ok()) axis.response_to.push_back(name);
+    if (!axis.response_to.empty()) {
+      auto response = kinematics::BallbarMapResponse(*machine, a.geometry, a.readings, axis.response_to, options);
+      if (!response.ok()) return response.status().WithLocation(r.path, 0);
+      axis.map_response = std::move(*response);
+    }
     axis.axis = std::string(1, kinematics::AxisLetter(a.axis));
     axis.installations = a.names;
     axis.lines = a.lines;

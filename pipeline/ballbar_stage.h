@@ -18,6 +18,10 @@ struct BallbarRequest {
   // tpcal.machine/1; "" = the nominal bhead_ctable when any installation turns a rotary axis
   // (seed 003's machine), else the nominal xyz machine.
   std::string machine_path;
+  // Errors the identification lacks whose share of every turned axis's maps is reported
+  // (BallbarAxisReport::map_response, kinematics::BallbarMapResponse); names the machine lacks
+  // are skipped.
+  std::vector<std::string> map_response_to;
 };
 
 // Errors: the files' (file:line); a row naming an installation the set-up lacks (kInvalidArgument,

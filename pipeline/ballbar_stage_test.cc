@@ -91,7 +91,7 @@ TEST(BallbarStage, BothAxesOfSeed003AreIdentifiedFromOneFile) {
   const auto m = BbsMachine();
   const auto truth = BbsTruth(m);
   const std::string path = BbsWriteFile(m, truth, BbsDir() / "both.csv");
-  auto report = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = ""});
+  auto report = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = "", .map_response_to = {}});
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->machine, "bhead_ctable");
   EXPECT_EQ(report->readings, 7 * 18 + 6 * 8);
@@ -124,7 +124,7 @@ TEST(BallbarStage, BothAxesOfSeed003AreIdentifiedFromOneFile) {
 TEST(BallbarStage, ErrorsOutReadsBackAsTheIdentifiedTables) {
   const auto m = BbsMachine();
   const std::string path = BbsWriteFile(m, BbsTruth(m), BbsDir() / "errors_out.csv");
-  auto report = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = ""});
+  auto report = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = "", .map_response_to = {}});
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   auto back = kinematics::ParseErrorState(report->errors_yaml, "errors.yaml", m);
   ASSERT_TRUE(back.ok()) << back.status().ToString();
@@ -142,7 +142,7 @@ TEST(BallbarStage, ErrorsOutReadsBackAsTheIdentifiedTables) {
 TEST(BallbarStage, UnknownInstallationIsNamedWithItsLine) {
   const fs::path path = BbsDir() / "unknown.csv";
   std::ofstream(path) << "# tpcal ballbar v1\n# units: mm\nsetup,angle_deg,dl_um\nC_radial_L1H1,0,0\nnope,20,1\n";
-  auto report = RunBallbarStage({.path = path.string(), .setup_path = kBbsSetup, .machine_path = ""});
+  auto report = RunBallbarStage({.path = path.string(), .setup_path = kBbsSetup, .machine_path = "", .map_response_to = {}});
   ASSERT_FALSE(report.ok());
   EXPECT_EQ(report.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(report.status().line(), 5u);
@@ -153,13 +153,13 @@ TEST(BallbarStage, UnknownInstallationIsNamedWithItsLine) {
 TEST(BallbarStage, SetupIsRequiredAndAMachineWithoutTheAxisIsAnError) {
   const auto m = BbsMachine();
   const std::string path = BbsWriteFile(m, BbsTruth(m), BbsDir() / "machine.csv");
-  auto no_setup = RunBallbarStage({.path = path, .setup_path = "", .machine_path = ""});
+  auto no_setup = RunBallbarStage({.path = path, .setup_path = "", .machine_path = "", .map_response_to = {}});
   ASSERT_FALSE(no_setup.ok());
   EXPECT_NE(no_setup.status().ToString().find("--setup"), std::string::npos);
   // The A/C table has no B axis: the B installations cannot be placed on it.
   const std::string ac = std::string(TPCAL_SOURCE_DIR) + "/samples/machines/ac_table.yaml";
   if (!fs::exists(ac)) GTEST_SKIP() << "no ac_table sample machine";
-  auto wrong = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = ac});
+  auto wrong = RunBallbarStage({.path = path, .setup_path = kBbsSetup, .machine_path = ac, .map_response_to = {}});
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.status().ToString().find("seed003_setups.yaml"), std::string::npos) << wrong.status().ToString();
 }

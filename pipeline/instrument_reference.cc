@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/ascii.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/prior_update.h"
 #include "pipeline/ballbar_stage.h"
@@ -110,7 +111,10 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
     return Status(StatusCode::kInvalidArgument,
                   "--reference-instrument ballbar needs its set-up (--reference-setup S.yaml, tpcal.ballbar_setup/1)",
                   r.path);
-  auto report = RunBallbarStage({.path = r.path, .setup_path = r.setup_path, .machine_path = r.machine_path});
+  auto report = RunBallbarStage({.path = r.path,
+                                 .setup_path = r.setup_path,
+                                 .machine_path = r.machine_path,
+                                 .map_response_to = kinematics::LinearSquarenessSet()});
   if (!report.ok()) return report.status();
   if (report->errors_yaml.empty())
     return Status(StatusCode::kInvalidArgument,
@@ -124,6 +128,10 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
       if (e.identifiable && e.u > 0.0) out.map_u.emplace_back(e.coefficient, e.u);
     for (const std::string& n : a.result.not_identifiable) out.not_identifiable.push_back(n);
     for (const std::string& f : a.result.not_separable) out.not_separable.push_back(a.axis + ": " + f);
+    out.map_unmodelled = a.response_to;  // the same names for every axis of one machine
+    for (std::size_t i = 0; i < a.result.entries.size() && a.map_response.cols() > 0; ++i)
+      out.map_unmodelled_response.emplace_back(a.result.entries[i].coefficient,
+                                               a.map_response.row(static_cast<Eigen::Index>(i)));
   }
   TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, report->errors_yaml, r.path, &out));
   return out;

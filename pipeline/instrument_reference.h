@@ -78,6 +78,11 @@ struct InstrumentReference {
   std::vector<std::string> not_identifiable;  // map entries it cannot determine (written as 0)
   std::vector<std::string> map_undetermined;  // the same, as coefficient names of `maps`
   std::vector<std::string> not_separable;     // ballbar: families the maps carry no component of
+  // ballbar identified here: errors it does not model but folds into the maps in part (the linear
+  // axes' squareness), and per map entry its value per display unit of each
+  // (kinematics::BallbarMapResponse). The instrument puts no bound on them.
+  std::vector<std::string> map_unmodelled;
+  std::vector<std::pair<std::string, Eigen::RowVectorXd>> map_unmodelled_response;
 };
 
 // A reference that is an identification tpcal wrote (by its extension, .json).

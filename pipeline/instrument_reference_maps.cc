@@ -26,6 +26,11 @@ std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
                         fmt::join(ref.not_identifiable, ", "));
   if (!ref.not_separable.empty())
     note += fmt::format("; no component along what its installations cannot separate: {}", fmt::join(ref.not_separable, "; "));
+  if (!ref.map_unmodelled.empty())
+    note += fmt::format("; their share of {}, which its model lacks, fitted with the re-alignment",
+                        fmt::join(ref.map_unmodelled, ", "));
+  else if (!ref.not_separable.empty())
+    note += "; their share of the linear axes' squareness is not known (the raw ball-bar file with its set-up gives it)";
   return note + ") " + how;
 }
 
@@ -133,6 +138,9 @@ MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& 
   MapsComparison out;
   if (!ref.not_separable.empty()) {
     out.why = "its maps carry no component along the location errors";
+    // No parameter equivalent: every parameter the piece identifies is fitted from it.
+    for (const auto& p : piece.identification.parameters)
+      if (p.identifiable) out.unseen.push_back(p.name);
     return out;
   }
   const auto& params = piece.identification.parameters;
@@ -158,10 +166,27 @@ MapsComparison CompareMaps(const LoadedPiece& setup, const InstrumentReference& 
   return out;
 }
 
+// A ball bar's folded share of errors it does not model (InstrumentReference::map_unmodelled) is
+// taken as this uncertainty of each (1 sd, display units: 100 urad of squareness, more than any
+// machine's), so that the base model fits the directions it moves the piece along.
+constexpr double kUnmodelledU = 100.0;
+
+// Adds D diag(kUnmodelledU^2) D^T to `covariance`, D the entries' (`names`) response rows.
+void AddUnmodelled(const InstrumentReference& ref, const std::vector<std::string>& names, Eigen::MatrixXd* covariance) {
+  if (ref.map_unmodelled.empty()) return;
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(names.size()),
+                                            static_cast<Eigen::Index>(ref.map_unmodelled.size()));
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (const auto& [entry, row] : ref.map_unmodelled_response)
+      if (entry == names[i] && row.size() == D.cols()) D.row(static_cast<Eigen::Index>(i)) = row;
+  *covariance += kUnmodelledU * kUnmodelledU * D * D.transpose();
+}
+
 // The maps' own uncertainty for the diagnosis's base model (DiagnosisOptions::
 // reference_uncertainty): their determined entries with their full covariance (or their u
 // alone) and the instrument's constant errors with their u (their covariance with the maps is
-// not kept: the probing test reports u per constant error); none when the u are unknown.
+// not kept: the probing test reports u per constant error), plus a ball bar's share of what it
+// does not model (AddUnmodelled); none when the u are unknown.
 std::optional<ReferenceUncertainty> MapsUncertainty(const InstrumentReference& ref, double noise_um) {
   if (ref.map_u.empty()) return std::nullopt;
   ReferenceUncertainty out;
@@ -185,12 +210,17 @@ std::optional<ReferenceUncertainty> MapsUncertainty(const InstrumentReference& r
       if (full && a >= 0 && b >= 0) out.covariance(i, j) = ref.map_covariance(a, b);
       else if (i == j) out.covariance(i, j) = u[static_cast<std::size_t>(i)] * u[static_cast<std::size_t>(i)];
     }
+  AddUnmodelled(ref, out.names, &out.covariance);
   return out;
 }
 
 // "compared through their parameter equivalent (...)", or why no parameter is compared.
 std::string ComparisonNote(const MapsComparison& c) {
-  if (!c.made) return "no parameter in common with the piece's model (" + c.why + "): compared by simulation only";
+  if (!c.made)
+    return "no parameter in common with the piece's model (" + c.why + "): compared by simulation only" +
+           (c.unseen.empty() ? std::string()
+                             : fmt::format("; the piece's own parameters fitted from it on top of the maps: {}",
+                                           fmt::join(c.unseen, ", ")));
   std::string note = fmt::format(
       "compared through their parameter equivalent (the piece's parameters that best reproduce the maps' table "
       "poses at {} positions, leaving {:.2f} um and {:.1f} urad RMS{})",

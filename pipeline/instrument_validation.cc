@@ -8,6 +8,9 @@
 #include <system_error>
 
 #include "kinematics/probe_artifacts.h"
+#include "kinematics/ballbar_setup.h"
+#include "kinematics/machine_yaml.h"
+#include "pipeline/ballbar_simulate_stage.h"
 #include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/diagnose_stage.h"
 #include "pipeline/instrument_reference.h"
@@ -54,6 +57,32 @@ Status WriteColdProbingTest(const LoadedPiece& setup, const kinematics::ErrorSta
   return WriteFileAtomic(path, sim->csv);
 }
 
+// The ball bar round C on the cold machine, A held at 0 (seven installations: radial and
+// tangential at 100 and 150 mm from C's line and 50 and 100 mm above the table, axial on it;
+// seed 003's angles), its set-up and the machine written beside it.
+Status WriteColdBallbarTest(const LoadedPiece& setup, const kinematics::ErrorState& cold, double noise_um,
+                            std::uint64_t seed, const std::filesystem::path& dir) {
+  std::string yaml = "schema: tpcal.ballbar_setup/1\ninstallations:\n";
+  struct Installation { const char* name; const char* kind; int x_mm, z_mm; };
+  for (const Installation& i : {Installation{"C_radial_L1H1", "radial", 100, 50}, {"C_tangential_L1H1", "tangential", 100, 50},
+                                {"C_axial_H1", "axial", 0, 50}, {"C_radial_L2H1", "radial", 150, 50},
+                                {"C_tangential_L2H1", "tangential", 150, 50}, {"C_radial_L1H3", "radial", 100, 100},
+                                {"C_tangential_L1H3", "tangential", 100, 100}})
+    yaml += fmt::format("  - {{name: {}, kind: {}, axis: C, workpiece_ball_in_part_mm: [{}, 0, {}], "
+                        "tool_ball_in_tool_mm: [0, 0, 0], nominal_length_mm: 150, sense: 1, hold_deg: {{A: 0}}}}\n",
+                        i.name, i.kind, i.x_mm, i.z_mm);
+  TPCAL_RETURN_IF_ERROR(WriteFileAtomic((dir / "setup.yaml").string(), yaml));
+  TPCAL_RETURN_IF_ERROR(WriteFileAtomic((dir / "machine.yaml").string(), kinematics::FormatMachineModel(setup.machine)));
+  auto bb_setup = kinematics::ParseBallbarSetup(yaml, "setup.yaml");
+  if (!bb_setup.ok()) return bb_setup.status();
+  BallbarSimRequest request;
+  request.noise_um = noise_um;
+  request.seed = seed;
+  auto sim = SimulateBallbar(setup.machine, cold, *bb_setup, request);
+  if (!sim.ok()) return sim.status();
+  return WriteFileAtomic((dir / "ballbar.csv").string(), sim->csv);
+}
+
 std::string InstrumentReferenceName(const InstrumentValidationOptions& instrument) {
   return fmt::format("{} test of the cold machine (noise {:g} um)", instrument.instrument, instrument.noise_um);
 }
@@ -62,10 +91,10 @@ std::string InstrumentReferenceName(const InstrumentValidationOptions& instrumen
 
 Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, ValidationOptions options,
                                                   const InstrumentValidationOptions& instrument) {
-  const bool ball = instrument.instrument == "datum_ball";
-  if (!ball && instrument.instrument != "probe_artifacts")  // the two whose tests are simulated here
+  const bool ball = instrument.instrument == "datum_ball", bar = instrument.instrument == "ballbar";
+  if (!ball && !bar && instrument.instrument != "probe_artifacts")
     return Status(StatusCode::kInvalidArgument, "--validate --reference-instrument " + instrument.instrument +
-                                                    ": expected datum_ball or probe_artifacts");
+                                                    ": expected datum_ball, probe_artifacts or ballbar");
   if (!(instrument.noise_um >= 0) || !std::isfinite(instrument.noise_um))
     return Status(StatusCode::kInvalidArgument, "--reference-noise-um must be a finite number >= 0 (um)");
   InstrumentScratchDir dir;
@@ -73,14 +102,17 @@ Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, Vali
   std::error_code ec;
   std::filesystem::create_directories(dir.path, ec);
   if (ec) return Status(StatusCode::kIoError, "cannot create " + dir.path.string() + ": " + ec.message());
-  const std::string file = (dir.path / (ball ? "ballpos.csv" : "probepts.csv")).string();
+  const std::string file = (dir.path / (ball ? "ballpos.csv" : bar ? "ballbar.csv" : "probepts.csv")).string();
   options.reference_name = InstrumentReferenceName(instrument);
   options.diagnose = [&](const kinematics::ErrorState& cold, const PointSet& measured,
                          std::uint64_t seed) -> Result<DiagnosisResult> {
-    TPCAL_RETURN_IF_ERROR(ball ? WriteColdBallTest(setup, cold, instrument.noise_um, seed, file)
-                               : WriteColdProbingTest(setup, cold, instrument.noise_um, seed, file));
-    const InstrumentReferenceRequest request{
-        .path = file, .instrument = instrument.instrument, .setup_path = "", .machine_path = ""};
+    TPCAL_RETURN_IF_ERROR(ball  ? WriteColdBallTest(setup, cold, instrument.noise_um, seed, file)
+                          : bar ? WriteColdBallbarTest(setup, cold, instrument.noise_um, seed, dir.path)
+                                : WriteColdProbingTest(setup, cold, instrument.noise_um, seed, file));
+    const InstrumentReferenceRequest request{.path = file,
+                                             .instrument = instrument.instrument,
+                                             .setup_path = bar ? (dir.path / "setup.yaml").string() : "",
+                                             .machine_path = bar ? (dir.path / "machine.yaml").string() : ""};
     return DiagnoseAgainstInstrument(setup, measured, request, DiagnosisOptions{});
   };
   return RunValidation(setup.piece, setup.machine, options);

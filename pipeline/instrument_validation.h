@@ -1,8 +1,9 @@
 // The validation of the diagnosis (diagnosis/diagnosis_validate.h) against an instrument reference
 // (issue 22): each trial's cold machine (its random base errors, geometry only) is measured by the
 // virtual instrument (datum_ball: pipeline/datum_ball_simulate_stage.h; probe_artifacts, seed
-// 000's artifacts with C every 15 deg: pipeline/probe_artifacts_simulate_stage.h; readings or
-// touches with the instrument's noise), the piece is cut by the same machine with one withheld effect switched on,
+// 000's artifacts with C every 15 deg: pipeline/probe_artifacts_simulate_stage.h; ballbar, seven
+// installations round C holding A at 0 with seed 003's angles: pipeline/ballbar_simulate_stage.h;
+// readings or touches with the instrument's noise), the piece is cut by the same machine with one withheld effect switched on,
 // measured with CMM noise at a random placement, and diagnosed against the instrument
 // (DiagnoseAgainstInstrument, pipeline/instrument_reference.h). The effects, their scaling and the
 // table are the engine's. The instrument files are written to a temporary folder, removed after.
@@ -17,7 +18,7 @@
 namespace tpcal::pipeline {
 
 struct InstrumentValidationOptions {
-  std::string instrument = "datum_ball";  // or probe_artifacts
+  std::string instrument = "datum_ball";  // or probe_artifacts, ballbar
   double noise_um = 0.5;                  // 1-sigma of each coordinate of a reading (of a touch), um
 };
 

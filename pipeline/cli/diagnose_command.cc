@@ -3,7 +3,7 @@
 //                 [--anchor FEATURE@X,Y,Z] [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
-//                 [--reference-instrument datum_ball|probe_artifacts [--reference-noise-um U]]
+//                 [--reference-instrument datum_ball|probe_artifacts|ballbar [--reference-noise-um U]]
 #include <CLI/CLI.hpp>
 
 #include <memory>
@@ -78,7 +78,8 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
                   "is compared with it parameter by parameter), probe_artifacts (tpcal probepts v1) or ballbar "
                   "(tpcal ballbar v1; needs --reference-setup): error maps of the rotary axes (probe_artifacts: "
                   "compared with the piece through their parameter equivalent and its squareness; ballbar: "
-                  "through the piece simulated from them only); the gap is diagnosed against the instrument");
+                  "through the piece simulated from them only, its own parameters fitted from the piece); the gap "
+                  "is diagnosed against the instrument");
   sub->add_option("--reference-setup", r->reference_setup,
                   "with --reference-instrument probe_artifacts: its artifacts (tpcal.artifacts/1; default seed 000's "
                   "three columns); ballbar: its installations (tpcal.ballbar_setup/1, required)");

@@ -23,8 +23,8 @@ void AddValidateOptions(CLI::App* sub, ValidateArgs* args) {
   sub->add_flag("--raw-peak", v->scale_raw_peak,
                 "validation: magnitudes scale the raw signature's peak (default: the part the base model cannot absorb)");
   sub->add_option("--reference-noise-um", args->instrument.noise_um,
-                  "validation with --reference-instrument datum_ball or probe_artifacts: noise sigma of the "
-                  "instrument's readings or touches (um)")
+                  "validation with --reference-instrument datum_ball, probe_artifacts or ballbar: noise sigma of "
+                  "the instrument's readings or touches (um)")
       ->capture_default_str();
   args->reference_instrument = sub->get_option_no_throw("--reference-instrument");
 }

@@ -45,7 +45,7 @@ int RunBallbar(const IdentifyArgs& args) {
   if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
     return ReportError(s);
   auto report = pipeline::RunBallbarStage(
-      {.path = args.request.points_path, .setup_path = args.setup, .machine_path = args.request.machine_path});
+      {.path = args.request.points_path, .setup_path = args.setup, .machine_path = args.request.machine_path, .map_response_to = {}});
   if (!report.ok()) return ReportError(report.status());
   const int exit =
       WriteJsonOrText(args.json, pipeline::BallbarJson(*report), [&] { return pipeline::BallbarText(*report); });

@@ -20,6 +20,10 @@ struct BallbarAxisReport {
   std::vector<std::string> installations;  // names, index order of the identification
   std::vector<std::size_t> lines;          // source line of each reading, the result's order
   kinematics::BallbarIdentification result;
+  // With BallbarRequest::map_response_to: the maps a unit of each of those errors would give
+  // (entries x names, display units; kinematics::BallbarMapResponse), and the names kept.
+  std::vector<std::string> response_to;
+  Eigen::MatrixXd map_response;
 };
 
 // One circular test of two linear axes (an installation of kind circle).
