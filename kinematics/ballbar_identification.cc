@@ -427,9 +427,13 @@ Result<Eigen::MatrixXd> BallbarMapResponse(const MachineModel& model, const std:
   Eigen::MatrixXd out;
   Workspace ws;
   for (std::size_t k = 0; k < errors.size(); ++k) {
+    if (std::find(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(k), errors[k]) != errors.begin() + static_cast<std::ptrdiff_t>(k))
+      return Status(StatusCode::kInvalidArgument, "ball-bar map response: '" + errors[k] + "' named twice");
     ErrorState unit(model);
     auto active = ActivateParameters(model, &unit, {errors[k]});
     if (!active.ok()) return active.status();
+    if (active->coefficients.size() != 1)
+      return Status(StatusCode::kInvalidArgument, "ball-bar map response: '" + errors[k] + "' is not one position-independent error");
     const int c = active->coefficients.front();
     unit.set_coefficient(c, 1.0 / unit.coefficient_info(c).display_per_internal);
     std::vector<BallbarReading> alone = readings;

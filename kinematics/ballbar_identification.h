@@ -112,7 +112,8 @@ Result<BallbarIdentification> IdentifyBallbar(const MachineModel& model,
 // motions take in part), the entries' values (display units, entry order, one column each) it
 // reports from the bar-length changes 1 display unit of that error alone causes at the readings'
 // installations and angles (the readings' own dl_um unused). Errors: an unknown or repeated name,
-// SimulateBallbarDlUm's, IdentifyBallbar's.
+// a name that is not one position-independent error (kInvalidArgument), SimulateBallbarDlUm's,
+// IdentifyBallbar's.
 Result<Eigen::MatrixXd> BallbarMapResponse(const MachineModel& model, const std::vector<BallbarGeometry>& installations,
                                            const std::vector<BallbarReading>& readings,
                                            const std::vector<std::string>& errors,

@@ -139,8 +139,8 @@ TEST(BallbarIdentification, ZeroErrorsGiveZeroMaps) {
 // installations (bhead_ctable) 15, -12 and 10 urad of E_C(0X)Y, E_B(0X)Z, E_A(0Y)Z alone leave C
 // maps of several um. BallbarMapResponse (one column per display unit of each) times those values
 // must be the maps IdentifyBallbar gives: the identification is linear, and the chain's second
-// order is about (15 urad x 500 mm)^2 / 150 mm = 4e-4 um (tolerance 1e-3 um / urad; measured
-// 1.7e-4 at most).
+// order is about (15 urad x 500 mm)^2 / 150 mm = 4e-4 um (tolerance 1e-3 in the entries' display
+// units, um or urad; measured 1.7e-4 at most).
 TEST(BallbarIdentification, MapResponseIsWhatTheSquarenessLeavesInTheMaps) {
   const MachineModel m = BbiTMachine();
   const auto gs = BbiTCInstallations(m);
@@ -164,6 +164,7 @@ TEST(BallbarIdentification, MapResponseIsWhatTheSquarenessLeavesInTheMaps) {
   }
   EXPECT_GT(largest, 1.0) << "the squareness leaves nothing in the maps";
   EXPECT_FALSE(BallbarMapResponse(m, gs, readings, {"E_Q(0X)Y"}).ok());
+  EXPECT_FALSE(BallbarMapResponse(m, gs, readings, {"E_C(0X)Y", "E_C(0X)Y"}).ok());
 }
 
 TEST(BallbarIdentification, RandomTruthWithinItsUncertainty) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/status.h"
 #include "pipeline/report/ballbar_report.h"
@@ -26,7 +27,8 @@ struct BallbarRequest {
 
 // Errors: the files' (file:line); a row naming an installation the set-up lacks (kInvalidArgument,
 // file:line); an installation the machine cannot hold (naming the set-up file); the
-// identification's or the circle analysis's (the ball-bar file named).
+// identification's or the circle analysis's (the ball-bar file named); the map response's
+// (kinematics::BallbarMapResponse, the ball-bar file named).
 Result<BallbarReport> RunBallbarStage(const BallbarRequest& request);
 
 }  // namespace tpcal::pipeline

@@ -27,10 +27,11 @@ std::string MapsNote(const InstrumentReference& ref, const std::string& how) {
   if (!ref.not_separable.empty())
     note += fmt::format("; no component along what its installations cannot separate: {}", fmt::join(ref.not_separable, "; "));
   if (!ref.map_unmodelled.empty())
-    note += fmt::format("; their share of {}, which its model lacks, fitted with the re-alignment",
-                        fmt::join(ref.map_unmodelled, ", "));
+    note += fmt::format("; their share of {}, which its model lacks, {}", fmt::join(ref.map_unmodelled, ", "),
+                        ref.map_u.empty() ? "left in them (their u unknown)" : "fitted with the re-alignment");
   else if (!ref.not_separable.empty())
-    note += "; their share of the linear axes' squareness is not known (the raw ball-bar file with its set-up gives it)";
+    note += "; their share of the linear axes' squareness is not known here (tpcal finds it when it identifies "
+            "the raw ball-bar file with its set-up)";
   return note + ") " + how;
 }
 

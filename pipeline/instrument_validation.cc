@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <system_error>
 
-#include "kinematics/probe_artifacts.h"
 #include "kinematics/ballbar_setup.h"
 #include "kinematics/machine_yaml.h"
+#include "kinematics/probe_artifacts.h"
 #include "pipeline/ballbar_simulate_stage.h"
 #include "pipeline/datum_ball_simulate_stage.h"
 #include "pipeline/diagnose_stage.h"
@@ -57,11 +57,12 @@ Status WriteColdProbingTest(const LoadedPiece& setup, const kinematics::ErrorSta
   return WriteFileAtomic(path, sim->csv);
 }
 
-// The ball bar round C on the cold machine, A held at 0 (seven installations: radial and
-// tangential at 100 and 150 mm from C's line and 50 and 100 mm above the table, axial on it;
-// seed 003's angles), its set-up and the machine written beside it.
+// The ball bar round C on the cold machine, A held at 0 (seven installations as seed 003's C
+// table: radial and tangential with the workpiece ball 100 mm from C's line and 50 mm above the
+// table, at 150 mm and 50 mm, and at 100 mm and 100 mm; axial 50 mm above it; seed 003's
+// angles), written to `path`, its set-up (setup.yaml) and the machine (machine.yaml) to `dir`.
 Status WriteColdBallbarTest(const LoadedPiece& setup, const kinematics::ErrorState& cold, double noise_um,
-                            std::uint64_t seed, const std::filesystem::path& dir) {
+                            std::uint64_t seed, const std::filesystem::path& dir, const std::string& path) {
   std::string yaml = "schema: tpcal.ballbar_setup/1\ninstallations:\n";
   struct Installation { const char* name; const char* kind; int x_mm, z_mm; };
   for (const Installation& i : {Installation{"C_radial_L1H1", "radial", 100, 50}, {"C_tangential_L1H1", "tangential", 100, 50},
@@ -80,7 +81,7 @@ Status WriteColdBallbarTest(const LoadedPiece& setup, const kinematics::ErrorSta
   request.seed = seed;
   auto sim = SimulateBallbar(setup.machine, cold, *bb_setup, request);
   if (!sim.ok()) return sim.status();
-  return WriteFileAtomic((dir / "ballbar.csv").string(), sim->csv);
+  return WriteFileAtomic(path, sim->csv);
 }
 
 std::string InstrumentReferenceName(const InstrumentValidationOptions& instrument) {
@@ -107,7 +108,7 @@ Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, Vali
   options.diagnose = [&](const kinematics::ErrorState& cold, const PointSet& measured,
                          std::uint64_t seed) -> Result<DiagnosisResult> {
     TPCAL_RETURN_IF_ERROR(ball  ? WriteColdBallTest(setup, cold, instrument.noise_um, seed, file)
-                          : bar ? WriteColdBallbarTest(setup, cold, instrument.noise_um, seed, dir.path)
+                          : bar ? WriteColdBallbarTest(setup, cold, instrument.noise_um, seed, dir.path, file)
                                 : WriteColdProbingTest(setup, cold, instrument.noise_um, seed, file));
     const InstrumentReferenceRequest request{.path = file,
                                              .instrument = instrument.instrument,

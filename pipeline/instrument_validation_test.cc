@@ -95,7 +95,8 @@ TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
 // A), so nothing is compared and the piece's own parameters are fitted from the piece; the
 // directions the squareness of the cold machine, folded into C's maps, moves them along are
 // fitted with the re-alignment. Truth: four effect-free pieces read none (with the folded share
-// left in the maps 43 of 100 read rotary_error_motion or rotary_positioning; README), and four
+// left in the maps 43 of 100 raised an alarm, 42 of them rotary_error_motion or
+// rotary_positioning; README), and four
 // drifts at 10x are named (the CLI's runs: 2 alarms in 100 pieces, the drift 90 %).
 TEST(InstrumentValidation, BallbarIsTheReference) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};

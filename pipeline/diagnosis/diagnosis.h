@@ -107,8 +107,8 @@ struct DiagnosisOptions {
   // With `reference`: what it does not know. Every direction of the piece's deviations along
   // which its covariance moves them with a variance above reference_nuisance_ratio * noise_um^2
   // is fitted in the base model (a nuisance column, not reported); the variance it adds along the
-  // others is weighed beside the noise's, mean and spread, in the excess (its mean), group,
-  // harmonic and candidate tests, the outlier screen and the drift's u. So no candidate, group,
+  // others is weighed beside the noise's, mean and spread, in the excess, group, harmonic and
+  // candidate tests, the outlier screen and the drift's u. So no candidate, group,
   // harmonic or patch is credited with the reference's own error. 1: measured on 120 effect-free turning pieces
   // against 1 um probing tests (README, tests corrected by the mean alone then): 0.25 raised 15 %
   // false alarms (so many columns bias the neighbour sigma low), 1 raised 5.8 %, 4 raised 25 %.

@@ -37,12 +37,13 @@ struct BaseFit {
   int q_fit = 0;                   // fitted base columns (0 in reference mode)
   int nuisance_columns = 0;        // the reference's uncertainty directions, last in the design
   // Per point: the variance the reference's uncertainty adds to the gap off every fitted column
-  // (DiagnosisOptions::reference_uncertainty; empty without it): its mean is taken off in the
-  // excess test, a candidate's residual and the noise estimate.
+  // (DiagnosisOptions::reference_uncertainty; empty without it): its mean is taken off a
+  // candidate's residual, the noise estimate and the excess's effect size.
   Eigen::VectorXd reference_var_um2;
   // The same as a factor: that variance's covariance is reference_remaining_um
   // reference_remaining_um^T (n x r, um; n x 0 or empty without). Weighed by its spread
-  // (SatterthwaiteLaw) in a candidate's reduction, the groups, harmonics and outlier screen.
+  // (SatterthwaiteLaw) in a candidate's reduction, the excess test, the groups, harmonics and
+  // outlier screen.
   Eigen::MatrixXd reference_remaining_um;
   Basis basis;                     // of the design [base columns, 6 alignment columns, nuisance columns]
   Eigen::VectorXd y;               // per point: measured - predicted deviation (- the reference's), um

@@ -7,6 +7,7 @@
 #include <span>
 #include <utility>
 
+#include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "pipeline/diagnosis/diagnosis_process_candidates.h"
 #include "pipeline/diagnosis/straightness_lines.h"
@@ -67,8 +68,8 @@ void ThermalDriftSpecs(const std::vector<Axis>& rotary, double duration_s, std::
     }
   } else {
     MachineSpec sq{"thermal_drift", "linear drift of the squareness of X, Y, Z with machining time", {}};
-    for (const char* p : {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"})
-      sq.items.push_back(std::string("{thermal_drift: {parameter: ") + p + ", rate_urad_per_h: 0}}");
+    for (const std::string& p : kinematics::LinearSquarenessSet())
+      sq.items.push_back("{thermal_drift: {parameter: " + p + ", rate_urad_per_h: 0}}");
     specs->push_back(sq);
   }
 }

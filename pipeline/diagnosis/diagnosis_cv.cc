@@ -9,6 +9,7 @@ namespace {
 
 Eigen::MatrixXd Rows(const Eigen::MatrixXd& Q, const std::vector<Eigen::Index>& rows) {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), Q.cols());
+  if (Q.cols() == 0) return out;  // a row of no column has no data to point at (UBSan)
   for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = Q.row(rows[k]);
   return out;
 }

@@ -49,7 +49,10 @@ ChiSquareLaw SatterthwaiteLaw(int k, double sigma2_um2, const Eigen::MatrixXd& Z
 
 // The degrees of freedom of `law`'s mean as the denominator of an F ratio when only its noise
 // part k sigma2_um2 is estimated (on dof2) and the correlated part is known: the mean's relative
-// variance is sigma2's scaled by k sigma2 / mean, so dof2 (mean / k sigma2)^2 (dof2 without Z).
+// variance is sigma2's scaled by (k sigma2 / mean)^2, so dof2 (mean / k sigma2)^2 (dof2 without
+// Z). Exact for an independent sigma2 (the neighbour sigma); where sigma2 is the residual's own
+// estimate, which also holds the reference's leftover variance off the directions tested, its
+// dof2 is a little lower than taken and the test a little permissive.
 double EstimatedMeanDof(const ChiSquareLaw& law, int k, double sigma2_um2, double dof2);
 
 // Root mean square (0 for an empty vector).

@@ -25,7 +25,8 @@ struct ScreenedInput {
 // The screen of `fit` (the base fitted to every observation of `mo`); with options.screen_outliers
 // off it is still run and reported, nothing is left out.
 // `effect` (n x p, or null): columns of an effect the model holds besides the base (the
-// verdict's candidate on every observation), so that points it explains are not flagged.
+// verdict's candidate on every observation, with the pair's second when the verdict names both),
+// so that points it explains are not flagged.
 ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObservations& mo,
                             const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
                             const Eigen::MatrixXd* effect = nullptr);

@@ -64,13 +64,18 @@ kinematics::ErrorState Table2(const kinematics::MachineModel& m, const std::stri
   return *e;
 }
 
-Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::ErrorState& e, double noise_um,
-                                            std::uint64_t seed) {
+// CMM noise and its seed, the piece at a random placement.
+testpieces::PieceSimOptions SimOptions(double noise_um, std::uint64_t seed) {
   testpieces::PieceSimOptions o;
   o.noise_um = noise_um;
   o.seed = seed;
   o.random_placement = true;
-  return testpieces::SimulatePiece(f.piece, f.machine, e, o);
+  return o;
+}
+
+Result<testpieces::SimulatedPiece> Simulate(const Fixture& f, const kinematics::ErrorState& e, double noise_um,
+                                            std::uint64_t seed) {
+  return testpieces::SimulatePiece(f.piece, f.machine, e, SimOptions(noise_um, seed));
 }
 
 // The piece simulated with `errors` (placement random, noise seeded), as observations in the
@@ -384,11 +389,6 @@ TEST(Diagnosis, WithheldThermalDriftIsNamedAndJsonFollowsTheContract) {
     EXPECT_NEAR(c["shrink_pct"].get<double>(), 100.0 * (1.0 - c["rms_after_um"].get<double>() / rms0), 1e-9);
 }
 
-// Two withheld effects at once, of different families: a thermal drift of the table in Y and a
-// CMM probe-radius error. The verdict names one of them; the runner-up (the other) still adds
-// significantly beyond it, so the pair is fitted jointly and explains more than the verdict
-// alone, in sample and cross-validated. Magnitudes: 12 um drift and 3 um probe radius against
-// 0.5 um noise (each alone is named at 100 % in the validation matrix at >= 5x noise).
 // A drift and servo glitches at once (turning piece, Table 2 base, noise 0.5 um, seed 1): the
 // glitches are 3 um spikes on a few hits of S_R. To the drift alone two of those hits are isolated
 // outliers; the screen's second pass has the pair the verdict names in its model, so they stay
@@ -396,10 +396,7 @@ TEST(Diagnosis, WithheldThermalDriftIsNamedAndJsonFollowsTheContract) {
 TEST(Diagnosis, ServoGlitchesBesideADriftAreNotOutliers) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_Y0A, K_um: 6, tau_s: 2400}\n");
-  testpieces::PieceSimOptions o;
-  o.noise_um = 0.5;
-  o.seed = 1;
-  o.random_placement = true;
+  testpieces::PieceSimOptions o = SimOptions(0.5, 1);
   testpieces::ServoReversalModel servo;
   servo.spike_x_um = 3.0;
   servo.spike_y_um = 2.4;
@@ -415,13 +412,15 @@ TEST(Diagnosis, ServoGlitchesBesideADriftAreNotOutliers) {
   EXPECT_TRUE(d->local_defects.empty()) << DiagnosisText(*d);
 }
 
+// Two withheld effects at once, of different families: a thermal drift of the table in Y and a
+// CMM probe-radius error. The verdict names one of them; the runner-up (the other) still adds
+// significantly beyond it, so the pair is fitted jointly and explains more than the verdict
+// alone, in sample and cross-validated. Magnitudes: 12 um drift and 3 um probe radius against
+// 0.5 um noise (each alone is named at 100 % in the validation matrix at >= 5x noise).
 TEST(Diagnosis, TwoWithheldEffectsAreFittedAsAPair) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_Y0A, K_um: 12, tau_s: 2400}\n");
-  testpieces::PieceSimOptions o;
-  o.noise_um = 0.5;
-  o.seed = 21;
-  o.random_placement = true;
+  testpieces::PieceSimOptions o = SimOptions(0.5, 21);
   o.probe_radius_error_um = 3.0;
   auto sim = testpieces::SimulatePiece(f.piece, f.machine, errors, o);
   ASSERT_TRUE(sim.ok()) << sim.status().message();

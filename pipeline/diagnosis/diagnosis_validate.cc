@@ -102,8 +102,8 @@ Status ParseWithheld(const std::string& item, const kinematics::MachineModel& ma
 Status WithheldDrift(const kinematics::MachineModel& machine, bool rotary, double duration_s, std::mt19937_64& rng,
                      Withheld* w) {
   const char* params[] = {"E_X0A", "E_Y0A", "E_Z0A", "E_X0C", "E_Y0C", "E_Z0C", "E_A0C", "E_B0C", "E_B(0X)Z"};
-  const char* squareness[] = {"E_C(0X)Y", "E_B(0X)Z", "E_A(0Y)Z"};
-  const std::string p = rotary ? params[Pick(rng, 9)] : squareness[Pick(rng, 3)];
+  const std::vector<std::string> squareness = kinematics::LinearSquarenessSet();
+  const std::string p = rotary ? params[Pick(rng, 9)] : squareness[static_cast<std::size_t>(Pick(rng, 3))];
   const std::string unit = rotary && p.size() == 5 && p[3] == '0' && (p[2] == 'X' || p[2] == 'Y' || p[2] == 'Z') ? "um" : "urad";
   if (Pick(rng, 10) < 7) {
     const double tau = Uniform(rng, 0.15, 1.5) * duration_s;
