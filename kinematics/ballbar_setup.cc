@@ -211,4 +211,24 @@ std::string FormatBallbarSetup(const BallbarSetup& setup) {
   return out;
 }
 
+BallbarSetup Seed003CTableSetup(Axis hold) {
+  struct Placed { const char* name; BallbarKind kind; double x_mm, z_mm; };
+  BallbarSetup setup;
+  for (const Placed& p : {Placed{"C_radial_L1H1", BallbarKind::kRadial, 100, 50},
+                          {"C_tangential_L1H1", BallbarKind::kTangential, 100, 50},
+                          {"C_axial_H1", BallbarKind::kAxial, 0, 50},
+                          {"C_radial_L2H1", BallbarKind::kRadial, 150, 50},
+                          {"C_tangential_L2H1", BallbarKind::kTangential, 150, 50},
+                          {"C_radial_L1H3", BallbarKind::kRadial, 100, 100},
+                          {"C_tangential_L1H3", BallbarKind::kTangential, 100, 100}}) {
+    BallbarInstallation i;
+    i.name = p.name, i.kind = p.kind, i.axis = Axis::kC;
+    i.workpiece_ball_in_part_mm = Eigen::Vector3d(p.x_mm, 0.0, p.z_mm);
+    i.nominal_length_mm = 150.0, i.sense = +1;
+    i.hold_deg[hold] = 0.0;
+    setup.installations.push_back(std::move(i));
+  }
+  return setup;
+}
+
 }  // namespace tpcal::kinematics

@@ -73,4 +73,9 @@ Result<BallbarSetup> LoadBallbarSetup(const std::string& path);
 // The file text of `setup` (17 significant digits), re-read by ParseBallbarSetup to the same set.
 std::string FormatBallbarSetup(const BallbarSetup& setup);
 
+// Seed 003's seven C-table installations (samples/ballbar/seed003_setups.yaml's first seven, its
+// ASSUMED L1 = 100 mm, L2 = 150 mm, H1 = 50 mm, H3 = 100 mm, 150 mm bar, sense +1), the other
+// rotary axis `hold` held at 0 deg (B on seed 003's machine, A on an A/C table).
+BallbarSetup Seed003CTableSetup(Axis hold);
+
 }  // namespace tpcal::kinematics

@@ -53,6 +53,18 @@ TEST(BallbarSetup, ParsesEveryField) {
   EXPECT_EQ(s->Find("nope"), nullptr);
 }
 
+void ExpectSameInstallation(const BallbarInstallation& a, const BallbarInstallation& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.axis, b.axis);
+  EXPECT_EQ(a.plane, b.plane);
+  EXPECT_EQ(a.workpiece_ball_in_part_mm, b.workpiece_ball_in_part_mm);
+  EXPECT_EQ(a.tool_ball_in_tool_mm, b.tool_ball_in_tool_mm);
+  EXPECT_EQ(a.nominal_length_mm, b.nominal_length_mm);
+  EXPECT_EQ(a.sense, b.sense);
+  EXPECT_EQ(a.hold_deg, b.hold_deg);
+}
+
 TEST(BallbarSetup, FormatReadsBackToTheSameSet) {
   auto s = ParseBallbarSetup(kBbsText, "s.yaml");
   ASSERT_TRUE(s.ok());
@@ -60,18 +72,7 @@ TEST(BallbarSetup, FormatReadsBackToTheSameSet) {
   auto back = ParseBallbarSetup(FormatBallbarSetup(*s), "f.yaml");
   ASSERT_TRUE(back.ok()) << back.status().ToString() << "\n" << FormatBallbarSetup(*s);
   ASSERT_EQ(back->installations.size(), s->installations.size());
-  for (std::size_t i = 0; i < s->installations.size(); ++i) {
-    const auto &a = s->installations[i], &b = back->installations[i];
-    EXPECT_EQ(a.name, b.name);
-    EXPECT_EQ(a.kind, b.kind);
-    EXPECT_EQ(a.axis, b.axis);
-    EXPECT_EQ(a.plane, b.plane);
-    EXPECT_EQ(a.workpiece_ball_in_part_mm, b.workpiece_ball_in_part_mm);
-    EXPECT_EQ(a.tool_ball_in_tool_mm, b.tool_ball_in_tool_mm);
-    EXPECT_EQ(a.nominal_length_mm, b.nominal_length_mm);
-    EXPECT_EQ(a.sense, b.sense);
-    EXPECT_EQ(a.hold_deg, b.hold_deg);
-  }
+  for (std::size_t i = 0; i < s->installations.size(); ++i) ExpectSameInstallation(s->installations[i], back->installations[i]);
 }
 
 TEST(BallbarSetup, TheSeed003SampleReads) {
@@ -79,6 +80,16 @@ TEST(BallbarSetup, TheSeed003SampleReads) {
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   // Table 1: 7 C-table measurements; Table 2: 6 B-head measurements.
   EXPECT_EQ(s->installations.size(), 13u);
+}
+
+// Truth: the function's seven C-table installations are the sample's first seven, field by field.
+TEST(BallbarSetup, Seed003CTableSetupIsTheSamplesCTable) {
+  auto s = LoadBallbarSetup(std::string(TPCAL_SOURCE_DIR) + "/samples/ballbar/seed003_setups.yaml");
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  const BallbarSetup c = Seed003CTableSetup(Axis::kB);
+  ASSERT_EQ(c.installations.size(), 7u);
+  for (std::size_t i = 0; i < 7; ++i) ExpectSameInstallation(c.installations[i], s->installations[i]);
+  EXPECT_EQ(Seed003CTableSetup(Axis::kA).installations[0].hold_deg, (std::map<Axis, double>{{Axis::kA, 0.0}}));
 }
 
 // One line changed in kBbsText -> the error and the line it names.

@@ -18,7 +18,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <tuple>
 #include <vector>
 
 #include "kinematics/ballbar_setup.h"
@@ -218,16 +217,7 @@ TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
 // give the folded share: its note says so.
 TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   const std::filesystem::path dir = MapsTestDir();
-  std::string setup_yaml = "schema: tpcal.ballbar_setup/1\ninstallations:\n";
-  for (const auto& [name, kind, x, z] : std::vector<std::tuple<std::string, std::string, int, int>>{
-           {"C_radial_L1H1", "radial", 100, 50}, {"C_tangential_L1H1", "tangential", 100, 50},
-           {"C_axial_H1", "axial", 0, 50}, {"C_radial_L2H1", "radial", 150, 50},
-           {"C_tangential_L2H1", "tangential", 150, 50}, {"C_radial_L1H3", "radial", 100, 100},
-           {"C_tangential_L1H3", "tangential", 100, 100}})
-    setup_yaml += fmt::format("  - {{name: {}, kind: {}, axis: C, workpiece_ball_in_part_mm: [{}, 0, {}], "
-                              "tool_ball_in_tool_mm: [0, 0, 0], nominal_length_mm: 150, sense: 1, hold_deg: {{A: 0}}}}\n",
-                              name, kind, x, z);
-  std::ofstream(dir / "ac_setup.yaml") << setup_yaml;
+  std::ofstream(dir / "ac_setup.yaml") << kinematics::FormatBallbarSetup(kinematics::Seed003CTableSetup(kinematics::Axis::kA));
   std::ofstream(dir / "ac_table.yaml") << kinematics::FormatMachineModel(test_support::AcTable());
   auto setup = kinematics::LoadBallbarSetup((dir / "ac_setup.yaml").string());
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();

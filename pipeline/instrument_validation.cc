@@ -57,31 +57,24 @@ Status WriteColdProbingTest(const LoadedPiece& setup, const kinematics::ErrorSta
   return WriteFileAtomic(path, sim->csv);
 }
 
-// The ball bar round C on the cold machine, A held at 0 (seven installations as seed 003's C
-// table: radial and tangential with the workpiece ball 100 mm from C's line and 50 mm above the
-// table, at 150 mm and 50 mm, and at 100 mm and 100 mm; axial 50 mm above it; seed 003's
-// angles), written to `path`, its set-up (setup.yaml) and the machine (machine.yaml) to `dir`.
-Status WriteColdBallbarTest(const LoadedPiece& setup, const kinematics::ErrorState& cold, double noise_um,
-                            std::uint64_t seed, const std::filesystem::path& dir, const std::string& path) {
-  std::string yaml = "schema: tpcal.ballbar_setup/1\ninstallations:\n";
-  struct Installation { const char* name; const char* kind; int x_mm, z_mm; };
-  for (const Installation& i : {Installation{"C_radial_L1H1", "radial", 100, 50}, {"C_tangential_L1H1", "tangential", 100, 50},
-                                {"C_axial_H1", "axial", 0, 50}, {"C_radial_L2H1", "radial", 150, 50},
-                                {"C_tangential_L2H1", "tangential", 150, 50}, {"C_radial_L1H3", "radial", 100, 100},
-                                {"C_tangential_L1H3", "tangential", 100, 100}})
-    yaml += fmt::format("  - {{name: {}, kind: {}, axis: C, workpiece_ball_in_part_mm: [{}, 0, {}], "
-                        "tool_ball_in_tool_mm: [0, 0, 0], nominal_length_mm: 150, sense: 1, hold_deg: {{A: 0}}}}\n",
-                        i.name, i.kind, i.x_mm, i.z_mm);
-  TPCAL_RETURN_IF_ERROR(WriteFileAtomic((dir / "setup.yaml").string(), yaml));
-  TPCAL_RETURN_IF_ERROR(WriteFileAtomic((dir / "machine.yaml").string(), kinematics::FormatMachineModel(setup.machine)));
-  auto bb_setup = kinematics::ParseBallbarSetup(yaml, "setup.yaml");
-  if (!bb_setup.ok()) return bb_setup.status();
+// The ball bar round C on the cold machine, A held at 0 (seed 003's C table,
+// kinematics::Seed003CTableSetup), written to `path`.
+Status WriteColdBallbarTest(const LoadedPiece& setup, const kinematics::BallbarSetup& installations,
+                            const kinematics::ErrorState& cold, double noise_um, std::uint64_t seed,
+                            const std::string& path) {
   BallbarSimRequest request;
   request.noise_um = noise_um;
   request.seed = seed;
-  auto sim = SimulateBallbar(setup.machine, cold, *bb_setup, request);
+  auto sim = SimulateBallbar(setup.machine, cold, installations, request);
   if (!sim.ok()) return sim.status();
   return WriteFileAtomic(path, sim->csv);
+}
+
+// The ball bar's set-up (setup.yaml) and the machine (machine.yaml), written once to `dir`.
+Status WriteBallbarFiles(const LoadedPiece& setup, const kinematics::BallbarSetup& installations,
+                         const std::filesystem::path& dir) {
+  TPCAL_RETURN_IF_ERROR(WriteFileAtomic((dir / "setup.yaml").string(), kinematics::FormatBallbarSetup(installations)));
+  return WriteFileAtomic((dir / "machine.yaml").string(), kinematics::FormatMachineModel(setup.machine));
 }
 
 std::string InstrumentReferenceName(const InstrumentValidationOptions& instrument) {
@@ -104,11 +97,13 @@ Result<ValidationSummary> RunInstrumentValidation(const LoadedPiece& setup, Vali
   std::filesystem::create_directories(dir.path, ec);
   if (ec) return Status(StatusCode::kIoError, "cannot create " + dir.path.string() + ": " + ec.message());
   const std::string file = (dir.path / (ball ? "ballpos.csv" : bar ? "ballbar.csv" : "probepts.csv")).string();
+  const kinematics::BallbarSetup installations = kinematics::Seed003CTableSetup(kinematics::Axis::kA);
+  if (bar) TPCAL_RETURN_IF_ERROR(WriteBallbarFiles(setup, installations, dir.path));
   options.reference_name = InstrumentReferenceName(instrument);
   options.diagnose = [&](const kinematics::ErrorState& cold, const PointSet& measured,
                          std::uint64_t seed) -> Result<DiagnosisResult> {
     TPCAL_RETURN_IF_ERROR(ball  ? WriteColdBallTest(setup, cold, instrument.noise_um, seed, file)
-                          : bar ? WriteColdBallbarTest(setup, cold, instrument.noise_um, seed, dir.path, file)
+                          : bar ? WriteColdBallbarTest(setup, installations, cold, instrument.noise_um, seed, file)
                                 : WriteColdProbingTest(setup, cold, instrument.noise_um, seed, file));
     const InstrumentReferenceRequest request{.path = file,
                                              .instrument = instrument.instrument,
