@@ -63,6 +63,9 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     out.not_separable = file->not_separable;
     out.map_u = file->map_u;
     out.map_undetermined = file->map_undetermined;
+    out.map_unmodelled = file->map_unmodelled;
+    for (const auto& [entry, row] : file->map_unmodelled_response)
+      out.map_unmodelled_response.emplace_back(entry, Eigen::Map<const Eigen::RowVectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
     TPCAL_RETURN_IF_ERROR(IrCheckMachine(setup, out, path));
     TPCAL_RETURN_IF_ERROR(IrSetMaps(setup, file->errors_yaml, path + " (its errors_yaml)", &out));
   }

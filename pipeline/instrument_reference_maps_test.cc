@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "kinematics/ballbar_setup.h"
+#include "kinematics/error_parameters.h"
 #include "kinematics/errors_yaml.h"
 #include "kinematics/machine_yaml.h"
 #include "kinematics/probe_artifacts.h"
@@ -213,8 +214,8 @@ TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
 // from the piece, and the directions the folded squareness moves the maps along in the base model.
 // Truth: the cold piece reads none (measured before: location_errors with nothing fitted from the
 // piece; rotary_error_motion with the folded squareness left in the maps); the piece cut with an 8
-// um E_X0C drift reads thermal_drift. The ball bar's identification JSON lacks the readings that
-// give the folded share: its note says so.
+// um E_X0C drift reads thermal_drift. The ball bar's identification JSON carries the folded share
+// as its map response: the cold piece reads none against it too.
 TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   const std::filesystem::path dir = MapsTestDir();
   std::ofstream(dir / "ac_setup.yaml") << kinematics::FormatBallbarSetup(kinematics::Seed003CTableSetup(kinematics::Axis::kA));
@@ -243,16 +244,25 @@ TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   auto warm = DiagnoseAgainstInstrument(loaded, MapsPiece(cold + kMapsDrift, 25), raw, {});
   ASSERT_TRUE(warm.ok()) << warm.status().ToString();
   EXPECT_EQ(warm->verdict.family, "thermal_drift") << DiagnosisText(*warm);
-  // The ball bar's identification JSON (tpcal identify --instrument ballbar --json) as the reference.
-  auto report = RunBallbarStage({.path = raw.path, .setup_path = raw.setup_path, .machine_path = raw.machine_path, .map_response_to = {}});
-  ASSERT_TRUE(report.ok()) << report.status().ToString();
-  std::ofstream(dir / "bb.json") << BallbarJson(*report);
-  auto js = DiagnoseAgainstInstrument(loaded, MapsPiece(cold, 24),
-                                      {.path = (dir / "bb.json").string(), .instrument = "", .setup_path = "", .machine_path = ""}, {});
-  ASSERT_TRUE(js.ok()) << js.status().ToString();
-  EXPECT_EQ(js->reference_agreement->instrument, "ballbar");
-  EXPECT_NE(js->reference_agreement->reference_note.find("share of the linear axes' squareness is not known here"),
-            std::string::npos) << js->reference_agreement->reference_note;
+  // The ball bar's identification JSON (tpcal identify --instrument ballbar --json) as the reference:
+  // with its map response it reads as the raw file; without it (a file written before the response
+  // was), its note says the folded share is not known, and the cold piece reads the rotary motion.
+  for (const bool response : {true, false}) {
+    auto report = RunBallbarStage({.path = raw.path,
+                                   .setup_path = raw.setup_path,
+                                   .machine_path = raw.machine_path,
+                                   .map_response_to = response ? kinematics::LinearSquarenessSet() : std::vector<std::string>{}});
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    std::ofstream(dir / "bb.json") << BallbarJson(*report);
+    auto js = DiagnoseAgainstInstrument(loaded, MapsPiece(cold, 24),
+                                        {.path = (dir / "bb.json").string(), .instrument = "", .setup_path = "", .machine_path = ""}, {});
+    ASSERT_TRUE(js.ok()) << js.status().ToString();
+    EXPECT_EQ(js->reference_agreement->instrument, "ballbar");
+    const std::string& js_note = js->reference_agreement->reference_note;
+    EXPECT_EQ(js_note.find("share of the linear axes' squareness is not known here") == std::string::npos, response) << js_note;
+    EXPECT_EQ(js_note.find("which its model lacks, fitted with the re-alignment") != std::string::npos, response) << js_note;
+    EXPECT_EQ(js->verdict.family == "none", response) << DiagnosisText(*js);
+  }
 }
 
 // The probing test's identification JSON (tpcal identify --instrument probe_artifacts --json) is

@@ -10,6 +10,7 @@
 #include <string>
 #include <tuple>
 
+#include "kinematics/error_parameters.h"
 #include "pipeline/cli/anchor_option.h"
 #include "pipeline/cli/column_option.h"
 #include "pipeline/cli/commands.h"
@@ -45,7 +46,10 @@ int RunBallbar(const IdentifyArgs& args) {
   if (Status s = CheckDistinctOutputs({{"--json", args.json}, {"--errors-out", args.errors_out}}); !s.ok())
     return ReportError(s);
   auto report = pipeline::RunBallbarStage(
-      {.path = args.request.points_path, .setup_path = args.setup, .machine_path = args.request.machine_path, .map_response_to = {}});
+      {.path = args.request.points_path,
+       .setup_path = args.setup,
+       .machine_path = args.request.machine_path,
+       .map_response_to = kinematics::LinearSquarenessSet()});
   if (!report.ok()) return ReportError(report.status());
   const int exit =
       WriteJsonOrText(args.json, pipeline::BallbarJson(*report), [&] { return pipeline::BallbarText(*report); });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "core/input_echo.h"
@@ -97,26 +98,59 @@ void ReadMapU(const json& entries, IdentificationFile* out) {
   }
 }
 
+// A ball-bar axis's map response (`where` names the axis): "response_to" and each entry's
+// "response", one finite number per name. Absent "response_to": none.
+Status ReadMapResponse(const json& axis, const std::string& where, const std::string& source, IdentificationFile* out) {
+  if (!axis.contains("response_to")) return Status::Ok();
+  const json& to = axis["response_to"];
+  if (!to.is_array() || !std::all_of(to.begin(), to.end(), [](const json& n) { return n.is_string(); }))
+    return IdParseError(source, where + ": expected \"response_to\" to be an array of error names");
+  const std::vector<std::string> names = to.get<std::vector<std::string>>();
+  if (!out->map_unmodelled.empty() && out->map_unmodelled != names)
+    return IdParseError(source, where + ": expected the same \"response_to\" as the axes before it");
+  out->map_unmodelled = names;
+  const json& entries = axis["errors"];
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const json& e = entries[k];
+    const std::string at = where + ".errors[" + std::to_string(k) + "]";
+    if (!e.is_object() || !e.contains("coefficient") || !e["coefficient"].is_string() || !e.contains("response") ||
+        !e["response"].is_array() || e["response"].size() != names.size())
+      return IdParseError(source, at + fmt::format(": expected a \"coefficient\" and a \"response\" of {} numbers",
+                                                   names.size()));
+    std::vector<double> row;
+    for (const json& v : e["response"]) {
+      if (!v.is_number() || !std::isfinite(v.get<double>()))
+        return IdParseError(source, at + ": expected finite numbers in \"response\"");
+      row.push_back(v.get<double>());
+    }
+    out->map_unmodelled_response.emplace_back(e["coefficient"].get<std::string>(), std::move(row));
+  }
+  return Status::Ok();
+}
+
 // The error-map fields of a probe_artifacts ("maps", "not_identifiable") or ballbar ("axes[]":
 // "errors", "not_identifiable", "not_separable") file; the maps themselves are in "errors_yaml".
-void ReadMapFields(const json& doc, IdentificationFile* out) {
+Status ReadMapFields(const json& doc, const std::string& source, IdentificationFile* out) {
   out->errors_yaml = doc["errors_yaml"].get<std::string>();
   if (doc.contains("maps") && doc["maps"].is_array()) {
     out->map_entries = static_cast<int>(doc["maps"].size());
     ReadMapU(doc["maps"], out);
   }
   out->not_identifiable = StringsOf(doc, "not_identifiable");
-  if (!doc.contains("axes") || !doc["axes"].is_array()) return;
-  for (const json& a : doc["axes"]) {
+  if (!doc.contains("axes") || !doc["axes"].is_array()) return Status::Ok();
+  for (std::size_t i = 0; i < doc["axes"].size(); ++i) {
+    const json& a = doc["axes"][i];
     if (!a.is_object()) continue;
     if (a.contains("errors") && a["errors"].is_array()) {
       out->map_entries += static_cast<int>(a["errors"].size());
       ReadMapU(a["errors"], out);
+      TPCAL_RETURN_IF_ERROR(ReadMapResponse(a, "axes[" + std::to_string(i) + "]", source, out));
     }
     for (auto& n : StringsOf(a, "not_identifiable")) out->not_identifiable.push_back(std::move(n));
     const std::string axis = StringOr(a, "axis");
     for (auto& f : StringsOf(a, "not_separable", axis + ": ")) out->not_separable.push_back(std::move(f));
   }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -142,7 +176,7 @@ Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const 
   out.source = source;
   out.instrument = StringOr(doc, "instrument");
   out.machine = StringOr(doc, "machine");
-  if (maps) ReadMapFields(doc, &out);
+  if (maps) TPCAL_RETURN_IF_ERROR(ReadMapFields(doc, source, &out));
   if (maps && !(doc.contains("parameters") && doc["parameters"].is_array())) return out;
   const json& params = doc["parameters"];
   for (std::size_t i = 0; i < params.size(); ++i) {

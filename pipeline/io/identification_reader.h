@@ -35,13 +35,19 @@ struct IdentificationFile {
   // The entries' standard uncertainties by coefficient ("coefficient", "u" > 0; display units).
   std::vector<std::pair<std::string, double>> map_u;
   std::vector<std::string> map_undetermined;  // coefficients of the entries marked not identifiable
+  // A ball bar's map response ("axes[].response_to", "axes[].errors[].response"): the errors its
+  // model lacks and, per entry coefficient, its change per display unit of each (entry's unit).
+  std::vector<std::string> map_unmodelled;
+  std::vector<std::pair<std::string, std::vector<double>>> map_unmodelled_response;
 };
 
 // Errors (kParseError naming `source`): not JSON (with the line of the fault), a schema other
 // than tpcal.identification/1, neither a "parameters" array nor an "errors_yaml" string (an
 // error-map instrument's), a parameter without a string "name" or
 // "unit" or a boolean "identifiable", an identifiable one whose "value" or "u" is not a finite
-// number (u >= 0) — located as parameters[i] ("name").
+// number (u >= 0) — located as parameters[i] ("name"); a ball-bar axis whose "response_to" is not
+// an array of strings, the same on every axis, or an entry whose "response" is not one finite
+// number per name — located as axes[i] or axes[i].errors[k].
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);
 // The file at `path`; also kIoError when it cannot be read.
 Result<IdentificationFile> ReadIdentificationJson(const std::string& path);

@@ -28,9 +28,14 @@ BbJson BbResidualsJson(const std::vector<double>& residuals_um, const std::vecto
   return out;
 }
 
-BbJson BbEntriesJson(const kinematics::BallbarIdentification& r) {
+// The entries; with a map response (BallbarAxisReport::response_to), each entry's "response": its
+// change per display unit of each named error, in the entry's unit.
+BbJson BbEntriesJson(const BallbarAxisReport& a) {
+  const auto& r = a.result;
+  const bool response = !a.response_to.empty() && a.map_response.rows() == static_cast<Eigen::Index>(r.entries.size());
   BbJson out = BbJson::array();
-  for (const BallbarErrorEntry& e : r.entries) {
+  for (std::size_t k = 0; k < r.entries.size(); ++k) {
+    const BallbarErrorEntry& e = r.entries[k];
     const bool u_known = e.identifiable && r.sigma_known;
     out.push_back({{"symbol", e.symbol},
                    {"coefficient", e.coefficient},
@@ -41,6 +46,10 @@ BbJson BbEntriesJson(const kinematics::BallbarIdentification& r) {
                    {"value", OrNull(e.identifiable, e.value)},
                    {"u", OrNull(u_known, e.u)},
                    {"ci95", u_known ? BbJson{e.ci95_low, e.ci95_high} : BbJson(nullptr)}});
+    if (!response) continue;
+    BbJson per_unit = BbJson::array();
+    for (Eigen::Index c = 0; c < a.map_response.cols(); ++c) per_unit.push_back(a.map_response(static_cast<Eigen::Index>(k), c));
+    out.back()["response"] = std::move(per_unit);
   }
   return out;
 }
@@ -68,7 +77,8 @@ BbJson BbAxisJson(const BallbarAxisReport& a) {
               {"sigma_um", OrNull(r.sigma_known, r.sigma_um)}};
   j["angles_deg"] = r.angle_deg;
   j["periodic"] = r.periodic;
-  j["errors"] = BbEntriesJson(r);
+  if (!a.response_to.empty()) j["response_to"] = a.response_to;
+  j["errors"] = BbEntriesJson(a);
   j["setup_terms"] = std::move(setup);
   j["not_separable"] = r.not_separable;
   j["not_identifiable"] = r.not_identifiable;

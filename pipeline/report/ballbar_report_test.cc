@@ -119,6 +119,23 @@ TEST(BallbarReport, JsonHoldsTheAxisEntriesSetupTermsAndFit) {
   EXPECT_EQ(a["residuals"][0]["residual_um"], r.residuals_um[0]);
 }
 
+// Truth: a map response (here a made-up 2-column matrix, entry k's row (k, -k)) is written as the
+// axis's "response_to" and each entry's "response", exactly; without one neither key is written.
+TEST(BallbarReport, JsonWritesTheMapResponsePerEntry) {
+  EXPECT_FALSE(nlohmann::json::parse(BallbarJson(BbrReport()))["axes"][0].contains("response_to"));
+  BallbarReport report = BbrReport();
+  BallbarAxisReport& axis = report.axes[0];
+  axis.response_to = {"E_C(0X)Y", "E_B(0X)Z"};
+  const auto n = static_cast<Eigen::Index>(axis.result.entries.size());
+  axis.map_response.resize(n, 2);
+  for (Eigen::Index k = 0; k < n; ++k) axis.map_response.row(k) << static_cast<double>(k), -static_cast<double>(k);
+  const auto a = nlohmann::json::parse(BallbarJson(report))["axes"][0];
+  EXPECT_EQ(a["response_to"], (std::vector<std::string>{"E_C(0X)Y", "E_B(0X)Z"}));
+  ASSERT_EQ(a["errors"].size(), static_cast<std::size_t>(n));
+  EXPECT_EQ(a["errors"][5]["response"], (std::vector<double>{5.0, -5.0}));
+  EXPECT_EQ(a["errors"][0]["response"], (std::vector<double>{0.0, 0.0}));
+}
+
 TEST(BallbarReport, JsonGivesCircleFiguresAndNullWithoutANumber) {
   const auto j = nlohmann::json::parse(BallbarJson(BbrReport()));
   ASSERT_EQ(j["circles"].size(), 1u);
