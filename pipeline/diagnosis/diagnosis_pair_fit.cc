@@ -1,6 +1,9 @@
 #include "pipeline/diagnosis/diagnosis_pair_fit.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -45,7 +48,75 @@ void PairParameters(const CandidateColumns& cv, const CandidateColumns& ck, cons
   }
 }
 
+// Candidates kept per family for the joint search: the family's best few by in-sample fit.
+constexpr std::size_t kBestPerFamily = 3;
+
+// The search's pool: per family its kBestPerFamily observable candidates of smallest rms_after.
+std::vector<std::size_t> PairPool(const VerdictInputs& in) {
+  const auto& results = in.scored.results;
+  std::map<std::string, std::vector<std::size_t>> by_family;
+  for (std::size_t k = 0; k < results.size(); ++k)
+    if (results[k].observable && in.scored.bases[k].rank > 0) by_family[results[k].family].push_back(k);
+  std::vector<std::size_t> pool;
+  for (auto& [family, ks] : by_family) {
+    std::stable_sort(ks.begin(), ks.end(), [&](std::size_t a, std::size_t b) {
+      return results[a].rms_after_um < results[b].rms_after_um;
+    });
+    for (std::size_t i = 0; i < ks.size() && i < kBestPerFamily; ++i) pool.push_back(ks[i]);
+  }
+  return pool;
+}
+
+// n log SSR + rank log n of the base, candidate j and candidate k fitted together (the base's
+// own terms are common to every pair and left out); +inf when nothing is left.
+double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
+  const Eigen::MatrixXd& U0 = in.fit.basis.U;
+  const Projected& bj = in.scored.bases[j];
+  Eigen::MatrixXd Q(U0.rows(), U0.cols() + bj.U.cols());
+  Q << U0, bj.U;
+  const Eigen::VectorXd& r0 = in.gap.r;
+  const Eigen::VectorXd rj = r0 - bj.U * (bj.U.transpose() * r0);
+  const Projected bk = ProjectCandidate(ColumnsOf(in.catalogue.candidates[k]), Q, in.options.absorbed_tolerance);
+  const double ssr = rj.squaredNorm() - (bk.rank > 0 ? (bk.U.transpose() * rj).squaredNorm() : 0.0);
+  const double n = static_cast<double>(r0.size());
+  if (!(ssr > 0.0)) return std::numeric_limits<double>::infinity();
+  return n * std::log(ssr) + static_cast<double>(bj.rank + bk.rank) * std::log(n);
+}
+
 }  // namespace
+
+// Where candidate k's family first appears in the ranking (its best candidate's place).
+std::size_t FamilyPlace(const Ranking& ranking, const std::string& family) {
+  const auto best = ranking.best_of_family.find(family);
+  if (best == ranking.best_of_family.end()) return ranking.order.size();
+  return static_cast<std::size_t>(std::find(ranking.order.begin(), ranking.order.end(), best->second) - ranking.order.begin());
+}
+
+std::optional<SearchedPair> BetterJointPair(const VerdictInputs& in, const Ranking& ranking, const PairFit& current,
+                                            std::size_t v, std::size_t k) {
+  const auto& results = in.scored.results;
+  const std::vector<std::size_t> pool = PairPool(in);
+  const double incumbent = JointBic(in, v, k);
+  double best = incumbent;
+  std::optional<std::pair<std::size_t, std::size_t>> found;
+  for (std::size_t a = 0; a < pool.size(); ++a)
+    for (std::size_t b = a + 1; b < pool.size(); ++b) {
+      const std::size_t j = pool[a], m = pool[b];
+      if (results[j].family == results[m].family) continue;
+      const bool same = (results[j].family == results[v].family && results[m].family == results[k].family) ||
+                        (results[j].family == results[k].family && results[m].family == results[v].family);
+      if (same) continue;
+      const double bic = JointBic(in, j, m);
+      if (bic < best) best = bic, found = std::make_pair(j, m);
+    }
+  if (!found) return std::nullopt;
+  auto [lead, other] = *found;
+  if (FamilyPlace(ranking, results[other].family) < FamilyPlace(ranking, results[lead].family)) std::swap(lead, other);
+  SearchedPair out{lead, other, FitPair(in, lead, other, "a joint search: it explains the gap better than the "
+                                                         "verdict and its runner-up, in sample and held out")};
+  if (out.fit.cv_method != current.cv_method || !(out.fit.cv_rms_after_um < current.cv_rms_after_um)) return std::nullopt;
+  return out;
+}
 
 PairFit FitPair(const VerdictInputs& in, std::size_t v, std::size_t k, const std::string& why) {
   const auto& results = in.scored.results;

@@ -452,6 +452,28 @@ TEST(Diagnosis, TwoWithheldEffectsAreFittedAsAPair) {
   EXPECT_NEAR(j["pair"]["shrink_pct"].get<double>(), p.shrink_pct, 1e-12);
 }
 
+// A pair whose sum looks like a third family (turning piece, Table 2 base, noise 0.5 um, seeds 1 to
+// 6): a 6 um drift of the table in Y and a 20 um/m scale error of Y. Forward selection names the
+// drift, then tool deflection, whose per-cut-class compliance takes up part of the scale, in 6 of
+// 6 (measured); the joint search over two-family pairs finds drift and positioning, which explain
+// and predict better, in 4 of 6. Truth: the drift leads every time; both named in at least 3.
+TEST(Diagnosis, AJointSearchFindsThePairForwardSelectionMisses) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine, "effects:\n  - thermal_drift: {parameter: E_Y0A, K_um: 6, tau_s: 2400}\n"
+                                        "  - linear_error_motion: {symbol: E_YY, coefficients_um_per_mm_pow: [0, 0.02]}\n");
+  int both = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    auto sim = testpieces::SimulatePiece(f.piece, f.machine, errors, SimOptions(0.5, seed));
+    ASSERT_TRUE(sim.ok()) << sim.status().message();
+    auto d = Diagnose(f.piece, f.machine, sim->points);
+    ASSERT_TRUE(d.ok()) << d.status().message();
+    EXPECT_EQ(d->verdict.family, "thermal_drift") << DiagnosisText(*d);
+    const std::set<std::string> named(d->verdict.families.begin(), d->verdict.families.end());
+    both += named == std::set<std::string>{"thermal_drift", "linear_positioning"};
+  }
+  EXPECT_GE(both, 3);
+}
+
 // Reference mode (seed 002 section 4.4): the sim is the machine errors of Table 2's probing column,
 // the real piece was cut with the machining column; the gap is a change of location errors and the
 // `location_errors` candidate explains it entirely (noise-free data). Values: seed 002 Table 2
@@ -950,10 +972,11 @@ TEST(Diagnosis, SmallValidationMeetsTargets) {
 // seed 2026. Measured at this seed: 36 of 36 outliers found at 10x, 0 clean points flagged;
 // local_defect named in 20 of 24 (75 % at 5x, 92 % at 10x: a 2-hit burr tapering to 0.7 of its
 // peak has its second hit at 3.5 sigma); fixture_bend, spindle_growth and lobes7 never none (72 of
-// 72); pairs both named 14 of 24; 1 false alarm in 24 effect-free pieces. Bounds: the measured
-// rates less about two binomial standard deviations of 24 trials (sd 8 % at 85 %), the issue's
-// targets where the measurement meets them (outliers, false flags, out-of-catalogue); local_defect
-// and pairs are below the 90 % and 80 % (README, "Real data") and guarded where they are.
+// 72); pairs both named 20 of 23 observable (19 by forward selection alone, before the joint pair
+// search); 1 false alarm in 24 effect-free pieces. Bounds: the measured rates less about two
+// binomial standard deviations of 24 trials (sd 8 % at 85 %), the targets where the
+// measurement meets them (outliers, false flags, out-of-catalogue); local_defect is below the
+// issue's 90 % at 5x (README, "Real data") and guarded where it is.
 TEST(Diagnosis, RealDataValidationMeetsTargets) {
   const Fixture f = Make();
   ValidationOptions v;
@@ -970,7 +993,7 @@ TEST(Diagnosis, RealDataValidationMeetsTargets) {
   EXPECT_LE(s->false_alarm_rate, 0.1) << md;
   EXPECT_GE(s->top1_rate["local_defect"], 0.7) << md;
   for (const char* ooc : {"fixture_bend", "spindle_growth", "lobes7"}) EXPECT_GE(s->top1_rate[ooc], 0.9) << ooc << md;
-  EXPECT_GE(s->top1_rate["pairs"], 0.45) << md;
+  EXPECT_GE(s->top1_rate["pairs"], 0.7) << md;
 }
 
 }  // namespace

@@ -110,6 +110,24 @@ std::optional<std::size_t> PairPartner(const VerdictInputs& in, const Ranking& r
   return std::nullopt;
 }
 
+// When a pair is named (verdict and `also`, fitted together as out->pair), a pair of other
+// families that explains and predicts better (BetterJointPair) replaces it: its lead becomes the
+// verdict. Returns the verdict's candidate.
+std::size_t SearchPair(const VerdictInputs& in, const Ranking& ranking, std::size_t v,
+                       const std::optional<std::size_t>& partner, DiagnosisResult* out) {
+  if (!partner || !out->verdict.also || !out->pair || out->pair->families.size() != 2 ||
+      out->pair->families[1] != *out->verdict.also)
+    return v;
+  auto searched = BetterJointPair(in, ranking, *out->pair, v, *partner);
+  if (!searched) return v;
+  out->verdict.indistinguishable_from.clear();
+  NameVerdict(in, ranking, searched->lead, out);
+  AddAliases(in, searched->lead, out);
+  out->verdict.also = in.scored.results[searched->other].family;
+  out->pair = std::move(searched->fit);
+  return searched->lead;
+}
+
 }  // namespace
 
 // Ranking of the significant candidates, pairwise (candidates hold out different features, so
@@ -196,13 +214,15 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   const RunnerUp runner = FindRunnerUp(in, ranking, v, out->verdict);
   if (runner.k && runner.p < in.scored.alpha_each) out->verdict.also = results[*runner.k].family;
   std::string why;
-  if (const auto k = PairPartner(in, ranking, v, runner, &why)) out->pair = FitPair(in, v, *k, why);
+  const auto partner = PairPartner(in, ranking, v, runner, &why);
+  if (partner) out->pair = FitPair(in, v, *partner, why);
   if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
     out->verdict.also.reset();
+  const std::size_t lead = SearchPair(in, ranking, v, partner, out);
   const double n = static_cast<double>(in.gap.r.size());
   // The reference's share along the verdict's directions is fitted.
-  const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[v].U);
-  return {results[v].rms_after_um * results[v].rms_after_um * n, in.fit.basis.rank + results[v].rank,
+  const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[lead].U);
+  return {results[lead].rms_after_um * results[lead].rms_after_um * n, in.fit.basis.rank + results[lead].rank,
           std::max(0.0, reference_ss - reference_in)};
 }
 
