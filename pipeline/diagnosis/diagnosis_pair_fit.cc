@@ -83,14 +83,14 @@ double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
   return n * std::log(ssr) + static_cast<double>(bj.rank + bk.rank) * std::log(n);
 }
 
-}  // namespace
-
-// Where candidate k's family first appears in the ranking (its best candidate's place).
+// Where `family` first appears in the ranking (its best candidate's place).
 std::size_t FamilyPlace(const Ranking& ranking, const std::string& family) {
   const auto best = ranking.best_of_family.find(family);
   if (best == ranking.best_of_family.end()) return ranking.order.size();
   return static_cast<std::size_t>(std::find(ranking.order.begin(), ranking.order.end(), best->second) - ranking.order.begin());
 }
+
+}  // namespace
 
 std::optional<SearchedPair> BetterJointPair(const VerdictInputs& in, const Ranking& ranking, const PairFit& current,
                                             std::size_t v, std::size_t k) {
