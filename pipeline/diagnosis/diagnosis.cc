@@ -59,7 +59,7 @@ Status DiagnoseScreened(const testpieces::TestPiece& piece, const kinematics::Ma
   const step::VerdictInputs in{*catalogue, scored, fit, gap, options};
   const step::Ranking ranking = step::RankCandidates(scored);
   const step::FinalModel final_model = step::DecideVerdict(in, ranking, out);
-  step::ReportCandidates(in, ranking, out);
+  step::ReportCandidates(in, ranking, final_model.verdict, out);
 
   const Eigen::Index n = gap.r.size();
   out->noise_sigma_um = options.noise_um > 0

@@ -251,10 +251,12 @@ struct Verdict {
 
 // The verdict and the runner-up (the best significant candidate of another family) fitted
 // together, when the top two are close: the pairwise ranking does not separate them by
-// prediction, or the runner-up still adds significantly beyond the verdict. The verdict itself
-// stays one family (docs/formats/diagnosis_json.md); this says how much more the pair explains.
+// prediction, or the runner-up still adds significantly beyond the verdict; or the pair a joint
+// search over two-family pairs found instead (diagnosis_pair_fit.h, BetterJointPair: then the
+// verdict is its lead). The verdict itself stays one family (docs/formats/diagnosis_json.md);
+// this says how much more the pair explains.
 struct PairFit {
-  std::vector<std::string> families;  // verdict's, runner-up's
+  std::vector<std::string> families;  // verdict's, runner-up's (or the searched pair's other)
   std::vector<std::string> names;
   std::string why;                    // which closeness test selected the pair
   int rank = 0;                       // joint directions left after projecting out the base
@@ -263,7 +265,7 @@ struct PairFit {
   // joint design can hold out when both were judged that way, else leave-one-point-out (PRESS).
   double cv_rms_before_um = 0.0, cv_rms_after_um = 0.0, cv_shrink_pct = 0.0;
   std::string cv_method = "leave-one-feature-out";
-  double p_value_beyond_verdict = 1.0;  // F-test: the runner-up added to base + verdict
+  double p_value_beyond_verdict = 1.0;  // F-test: the second added to base + verdict
   std::vector<EffectParameter> parameters;  // both effects' parameters from the joint fit
 };
 
@@ -297,7 +299,7 @@ struct DiagnosisResult {
   std::vector<UnobservableFamily> unobservable;  // families with no observable candidate
   std::vector<WeaklyObservableFamily> weakly_observable;  // observable, but mostly absorbed by the base
   Verdict verdict;
-  std::optional<PairFit> pair;                   // verdict + runner-up jointly, when they are close
+  std::optional<PairFit> pair;                   // verdict + second jointly, when they are close
   std::vector<std::string> skipped_points;       // points no cut reaches (Diagnose), "file:line: why"
   // The outlier screen: flagged points (left out unless screen_outliers is off), the patches, and
   // the noise sigma from neighbour differences on the same feature with the test of the gap

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <utility>
 #include <vector>
@@ -68,7 +67,7 @@ std::vector<std::size_t> PairPool(const VerdictInputs& in) {
 }
 
 // n log SSR + rank log n of the base, candidate j and candidate k fitted together (the base's
-// own terms are common to every pair and left out); +inf when nothing is left.
+// own terms are common to every pair and left out); SSR floored at 1e-30 of the gap's.
 double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
   const Eigen::MatrixXd& U0 = in.fit.basis.U;
   const Projected& bj = in.scored.bases[j];
@@ -77,10 +76,9 @@ double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
   const Eigen::VectorXd& r0 = in.gap.r;
   const Eigen::VectorXd rj = r0 - bj.U * (bj.U.transpose() * r0);
   const Projected bk = ProjectCandidate(ColumnsOf(in.catalogue.candidates[k]), Q, in.options.absorbed_tolerance);
-  const double ssr = rj.squaredNorm() - (bk.rank > 0 ? (bk.U.transpose() * rj).squaredNorm() : 0.0);
+  const double ssr = bk.rank > 0 ? (rj - bk.U * (bk.U.transpose() * rj)).squaredNorm() : rj.squaredNorm();
   const double n = static_cast<double>(r0.size());
-  if (!(ssr > 0.0)) return std::numeric_limits<double>::infinity();
-  return n * std::log(ssr) + static_cast<double>(bj.rank + bk.rank) * std::log(n);
+  return n * std::log(std::max(ssr, 1e-30 * r0.squaredNorm())) + static_cast<double>(bj.rank + bk.rank) * std::log(n);
 }
 
 // Where `family` first appears in the ranking (its best candidate's place).
@@ -112,6 +110,8 @@ std::optional<SearchedPair> BetterJointPair(const VerdictInputs& in, const Ranki
   if (!found) return std::nullopt;
   auto [lead, other] = *found;
   if (FamilyPlace(ranking, results[other].family) < FamilyPlace(ranking, results[lead].family)) std::swap(lead, other);
+  // As the named pair's: a significant verdict, and a second effect that adds significantly beyond it.
+  if (!results[lead].significant || !(FBeyond(in, other, lead).second < in.scored.alpha_each)) return std::nullopt;
   SearchedPair out{lead, other, FitPair(in, lead, other, "a joint search: it explains the gap better than the "
                                                          "verdict and its runner-up, in sample and held out")};
   if (out.fit.cv_method != current.cv_method || !(out.fit.cv_rms_after_um < current.cv_rms_after_um)) return std::nullopt;

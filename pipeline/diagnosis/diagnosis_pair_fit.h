@@ -20,10 +20,11 @@ PairFit FitPair(const VerdictInputs& in, std::size_t v, std::size_t k, const std
 // Forward selection (the verdict, then what adds most beyond it) misses a pair whose sum looks
 // most like a third family. Of every two observable candidates of two families (each family's
 // kBestPerFamily that explain most alone), the pair with the smallest joint BIC (n log SSR + rank
-// log n) when its families differ from `current`'s, explains more than it in sample (BIC) and
-// predicts better (FitPair's held-out RMS lower, same method): {lead, other} with its fit, lead
-// the one whose family ranks first alone (`ranking`: the verdict's family stays the verdict when
-// the pair holds it). Else nullopt.
+// log n) when its families differ from `current`'s (one may be shared), explains more than it in
+// sample (BIC) and predicts better (FitPair's held-out RMS lower, same method), its lead
+// significant alone and its other adding significantly beyond the lead (F, alpha_each):
+// {lead, other} with its fit, lead the one whose family ranks first alone (`ranking`: the
+// verdict's family stays the verdict when the pair holds it). Else nullopt.
 struct SearchedPair {
   std::size_t lead = 0, other = 0;
   PairFit fit;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <tuple>
+#include <vector>
 
 #include "pipeline/diagnosis/diagnosis_least_squares.h"
 #include "pipeline/diagnosis/diagnosis_pair_fit.h"
@@ -110,9 +111,9 @@ std::optional<std::size_t> PairPartner(const VerdictInputs& in, const Ranking& r
   return std::nullopt;
 }
 
-// When a pair is named (verdict and `also`, fitted together as out->pair), a pair of other
-// families that explains and predicts better (BetterJointPair) replaces it: its lead becomes the
-// verdict. Returns the verdict's candidate.
+// When a pair is named (verdict and `also`, fitted together as out->pair), another pair of
+// families (one may be the verdict's) that explains and predicts better (BetterJointPair)
+// replaces it: its lead becomes the verdict, its other `also`. Returns the verdict's candidate.
 std::size_t SearchPair(const VerdictInputs& in, const Ranking& ranking, std::size_t v,
                        const std::optional<std::size_t>& partner, DiagnosisResult* out) {
   if (!partner || !out->verdict.also || !out->pair || out->pair->families.size() != 2 ||
@@ -124,6 +125,7 @@ std::size_t SearchPair(const VerdictInputs& in, const Ranking& ranking, std::siz
   NameVerdict(in, ranking, searched->lead, out);
   AddAliases(in, searched->lead, out);
   out->verdict.also = in.scored.results[searched->other].family;
+  std::erase(out->verdict.indistinguishable_from, *out->verdict.also);
   out->pair = std::move(searched->fit);
   return searched->lead;
 }
@@ -207,7 +209,7 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   const auto& results = in.scored.results;
   const double reference_ss = in.fit.reference_var_um2.sum();
   if (ranking.order.empty() || !results[ranking.order.front()].significant)
-    return {in.gap.ssr, in.fit.basis.rank, reference_ss};
+    return {in.gap.ssr, in.fit.basis.rank, reference_ss, std::nullopt};
   const std::size_t v = ranking.order.front();
   NameVerdict(in, ranking, v, out);
   AddAliases(in, v, out);
@@ -223,11 +225,14 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   // The reference's share along the verdict's directions is fitted.
   const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[lead].U);
   return {results[lead].rms_after_um * results[lead].rms_after_um * n, in.fit.basis.rank + results[lead].rank,
-          std::max(0.0, reference_ss - reference_in)};
+          std::max(0.0, reference_ss - reference_in), lead};
 }
 
-void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out) {
-  for (auto k : ranking.order) out->candidates.push_back(in.scored.results[k]);
+void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, const std::optional<std::size_t>& verdict,
+                      DiagnosisResult* out) {
+  if (verdict) out->candidates.push_back(in.scored.results[*verdict]);
+  for (auto k : ranking.order)
+    if (k != verdict) out->candidates.push_back(in.scored.results[k]);
   // Families without any observable candidate.
   for (const auto& [family, reason] : in.catalogue.not_applicable) out->unobservable.push_back({family, reason});
   std::map<std::string, bool> family_observable;

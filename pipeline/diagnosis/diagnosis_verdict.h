@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,13 +50,17 @@ struct FinalModel {
   double ssr = 0.0;
   int dof = 0;
   double reference_ss = 0.0;
+  // The verdict's candidate: the ranking's first, or a searched pair's lead (none: no verdict).
+  std::optional<std::size_t> verdict;
 };
 
 // The verdict, the families indistinguishable from it, `also`, and the pair fit, into `out`.
 FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out);
 
-// The candidates in ranking order, the unobservable and the weakly observable families, into `out`.
-void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, DiagnosisResult* out);
+// The candidates, the verdict's (FinalModel::verdict) first, then the ranking's order; the
+// unobservable and the weakly observable families, into `out`.
+void ReportCandidates(const VerdictInputs& in, const Ranking& ranking, const std::optional<std::size_t>& verdict,
+                      DiagnosisResult* out);
 
 // After the gap summary: the test of the base gap against the neighbour-difference noise
 // (excess_p_value), the verdict's list of families, and where no catalogue candidate is

@@ -99,24 +99,29 @@ void ReadMapU(const json& entries, IdentificationFile* out) {
 }
 
 // A ball-bar axis's map response (`where` names the axis): "response_to" and each entry's
-// "response", one finite number per name. Absent "response_to": none.
-Status ReadMapResponse(const json& axis, const std::string& where, const std::string& source, IdentificationFile* out) {
-  if (!axis.contains("response_to")) return Status::Ok();
+// "coefficient" and "response", one finite number per name. `first`: the first axis with errors,
+// which sets whether the file has one; every later axis must agree (names, or absence).
+Status ReadMapResponse(const json& axis, bool first, const std::string& where, const std::string& source,
+                       IdentificationFile* out) {
+  const bool has = axis.contains("response_to");
+  if (!first && has != !out->map_unmodelled.empty())
+    return IdParseError(source, where + ": expected \"response_to\" on every axis or on none");
+  if (!has) return Status::Ok();
   const json& to = axis["response_to"];
-  if (!to.is_array() || !std::all_of(to.begin(), to.end(), [](const json& n) { return n.is_string(); }))
-    return IdParseError(source, where + ": expected \"response_to\" to be an array of error names");
+  if (!to.is_array() || to.empty() || !std::all_of(to.begin(), to.end(), [](const json& n) { return n.is_string(); }))
+    return IdParseError(source, where + ": expected \"response_to\" to be a non-empty array of error names");
   const std::vector<std::string> names = to.get<std::vector<std::string>>();
-  if (!out->map_unmodelled.empty() && out->map_unmodelled != names)
+  if (!first && out->map_unmodelled != names)
     return IdParseError(source, where + ": expected the same \"response_to\" as the axes before it");
   out->map_unmodelled = names;
   const json& entries = axis["errors"];
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const json& e = entries[k];
     const std::string at = where + ".errors[" + std::to_string(k) + "]";
-    if (!e.is_object() || !e.contains("coefficient") || !e["coefficient"].is_string() || !e.contains("response") ||
-        !e["response"].is_array() || e["response"].size() != names.size())
-      return IdParseError(source, at + fmt::format(": expected a \"coefficient\" and a \"response\" of {} numbers",
-                                                   names.size()));
+    if (!e.is_object() || !e.contains("coefficient") || !e["coefficient"].is_string())
+      return IdParseError(source, at + ": expected a string \"coefficient\"");
+    if (!e.contains("response") || !e["response"].is_array() || e["response"].size() != names.size())
+      return IdParseError(source, at + fmt::format(": expected a \"response\" of {} numbers", names.size()));
     std::vector<double> row;
     for (const json& v : e["response"]) {
       if (!v.is_number() || !std::isfinite(v.get<double>()))
@@ -138,13 +143,15 @@ Status ReadMapFields(const json& doc, const std::string& source, IdentificationF
   }
   out->not_identifiable = StringsOf(doc, "not_identifiable");
   if (!doc.contains("axes") || !doc["axes"].is_array()) return Status::Ok();
+  bool first = true;
   for (std::size_t i = 0; i < doc["axes"].size(); ++i) {
     const json& a = doc["axes"][i];
     if (!a.is_object()) continue;
     if (a.contains("errors") && a["errors"].is_array()) {
       out->map_entries += static_cast<int>(a["errors"].size());
       ReadMapU(a["errors"], out);
-      TPCAL_RETURN_IF_ERROR(ReadMapResponse(a, "axes[" + std::to_string(i) + "]", source, out));
+      TPCAL_RETURN_IF_ERROR(ReadMapResponse(a, first, "axes[" + std::to_string(i) + "]", source, out));
+      first = false;
     }
     for (auto& n : StringsOf(a, "not_identifiable")) out->not_identifiable.push_back(std::move(n));
     const std::string axis = StringOr(a, "axis");

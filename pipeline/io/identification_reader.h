@@ -46,7 +46,8 @@ struct IdentificationFile {
 // error-map instrument's), a parameter without a string "name" or
 // "unit" or a boolean "identifiable", an identifiable one whose "value" or "u" is not a finite
 // number (u >= 0) — located as parameters[i] ("name"); a ball-bar axis whose "response_to" is not
-// an array of strings, the same on every axis, or an entry whose "response" is not one finite
+// a non-empty array of strings, or not the same (names, or absence) on every axis with errors, or
+// an entry of such an axis without a string "coefficient" or whose "response" is not one finite
 // number per name — located as axes[i] or axes[i].errors[k].
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);
 // The file at `path`; also kIoError when it cannot be read.

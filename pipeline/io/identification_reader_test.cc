@@ -32,12 +32,16 @@ TEST(IdentificationReader, AMalformedMapResponseFailsWhereItIs) {
   struct Case { const char* from; const char* to; const char* message; };
   const Case cases[] = {
       {"\"response_to\": [\"E_C(0X)Y\", \"E_B(0X)Z\"]", "\"response_to\": [\"E_C(0X)Y\", 3]",
-       "axes[0]: expected \"response_to\" to be an array of error names"},
-      {"\"response\": [0.5, -0.25]", "\"response\": [0.5]", "axes[0].errors[0]: expected a \"coefficient\" and a \"response\" of 2 numbers"},
+       "axes[0]: expected \"response_to\" to be a non-empty array of error names"},
+      {"\"response_to\": [\"E_C(0X)Y\", \"E_B(0X)Z\"]", "\"response_to\": []",
+       "axes[0]: expected \"response_to\" to be a non-empty array of error names"},
+      {"\"response\": [0.5, -0.25]", "\"response\": [0.5]", "axes[0].errors[0]: expected a \"response\" of 2 numbers"},
       {"\"response\": [0, 1e-3]", "\"response\": [0, \"x\"]", "axes[0].errors[1]: expected finite numbers in \"response\""},
-      {", \"response\": [0, 1e-3]", "", "axes[0].errors[1]: expected a \"coefficient\" and a \"response\" of 2 numbers"},
+      {", \"response\": [0, 1e-3]", "", "axes[0].errors[1]: expected a \"response\" of 2 numbers"},
+      {"\"coefficient\": \"E_XC.n1\", ", "", "axes[0].errors[1]: expected a string \"coefficient\""},
       {"}]}],", "}]}, {\"axis\": \"A\", \"response_to\": [\"E_C(0X)Y\"], \"errors\": []}],",
        "axes[1]: expected the same \"response_to\" as the axes before it"},
+      {"}]}],", "}]}, {\"axis\": \"A\", \"errors\": []}],", "axes[1]: expected \"response_to\" on every axis or on none"},
   };
   for (const Case& c : cases) {
     std::string text = kIrtBallbar;

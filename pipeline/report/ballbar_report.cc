@@ -30,9 +30,15 @@ BbJson BbResidualsJson(const std::vector<double>& residuals_um, const std::vecto
 
 // The entries; with a map response (BallbarAxisReport::response_to), each entry's "response": its
 // change per display unit of each named error, in the entry's unit.
+// Whether the axis's map response is written ("response_to" and every entry's "response").
+bool BbHasResponse(const BallbarAxisReport& a) {
+  return !a.response_to.empty() && a.map_response.rows() == static_cast<Eigen::Index>(a.result.entries.size()) &&
+         a.map_response.cols() == static_cast<Eigen::Index>(a.response_to.size());
+}
+
 BbJson BbEntriesJson(const BallbarAxisReport& a) {
   const auto& r = a.result;
-  const bool response = !a.response_to.empty() && a.map_response.rows() == static_cast<Eigen::Index>(r.entries.size());
+  const bool response = BbHasResponse(a);
   BbJson out = BbJson::array();
   for (std::size_t k = 0; k < r.entries.size(); ++k) {
     const BallbarErrorEntry& e = r.entries[k];
@@ -77,7 +83,7 @@ BbJson BbAxisJson(const BallbarAxisReport& a) {
               {"sigma_um", OrNull(r.sigma_known, r.sigma_um)}};
   j["angles_deg"] = r.angle_deg;
   j["periodic"] = r.periodic;
-  if (!a.response_to.empty()) j["response_to"] = a.response_to;
+  if (BbHasResponse(a)) j["response_to"] = a.response_to;
   j["errors"] = BbEntriesJson(a);
   j["setup_terms"] = std::move(setup);
   j["not_separable"] = r.not_separable;
