@@ -1,5 +1,7 @@
 #include "pipeline/diagnosis/diagnosis_pair_fit.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -67,18 +69,25 @@ std::vector<std::size_t> PairPool(const VerdictInputs& in) {
 }
 
 // n log SSR + rank log n of the base, candidate j and candidate k fitted together (the base's
-// own terms are common to every pair and left out); SSR floored at 1e-30 of the gap's.
+// own terms are common to every pair and left out); SSR floored at 1e-30 of the gap's. From the
+// candidates' directions already off the base (ScoredCandidates::bases): k's left off j's are
+// those whose sine to span(j) exceeds the absorbed tolerance (singular values of Uk - Uj Uj^T Uk).
 double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
-  const Eigen::MatrixXd& U0 = in.fit.basis.U;
-  const Projected& bj = in.scored.bases[j];
-  Eigen::MatrixXd Q(U0.rows(), U0.cols() + bj.U.cols());
-  Q << U0, bj.U;
+  const Projected &bj = in.scored.bases[j], &bk = in.scored.bases[k];
   const Eigen::VectorXd& r0 = in.gap.r;
   const Eigen::VectorXd rj = r0 - bj.U * (bj.U.transpose() * r0);
-  const Projected bk = ProjectCandidate(ColumnsOf(in.catalogue.candidates[k]), Q, in.options.absorbed_tolerance);
-  const double ssr = bk.rank > 0 ? (rj - bk.U * (bk.U.transpose() * rj)).squaredNorm() : rj.squaredNorm();
+  const Eigen::MatrixXd ck = bk.U - bj.U * (bj.U.transpose() * bk.U);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(ck, Eigen::ComputeThinU);
+  int rank_k = 0;
+  double explained = 0.0;
+  for (Eigen::Index c = 0; c < svd.singularValues().size(); ++c)
+    if (svd.singularValues()(c) > in.options.absorbed_tolerance) {
+      ++rank_k;
+      explained += std::pow(svd.matrixU().col(c).dot(rj), 2);
+    }
+  const double ssr = std::max(0.0, rj.squaredNorm() - explained);
   const double n = static_cast<double>(r0.size());
-  return n * std::log(std::max(ssr, 1e-30 * r0.squaredNorm())) + static_cast<double>(bj.rank + bk.rank) * std::log(n);
+  return n * std::log(std::max(ssr, 1e-30 * r0.squaredNorm())) + static_cast<double>(bj.rank + rank_k) * std::log(n);
 }
 
 // Where `family` first appears in the ranking (its best candidate's place).
