@@ -244,6 +244,15 @@ TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   auto warm = DiagnoseAgainstInstrument(loaded, MapsPiece(cold + kMapsDrift, 25), raw, {});
   ASSERT_TRUE(warm.ok()) << warm.status().ToString();
   EXPECT_EQ(warm->verdict.family, "thermal_drift") << DiagnosisText(*warm);
+  // A's angular positioning (E_AA, 35 urad at A -90, 0 at A 0), which the ball bar at A 0 never
+  // sees: the gap holds it and the catalogue's candidate for A names it (measured 5 of 5 seeds;
+  // with candidates for C alone the piece read thermal_drift).
+  const std::string a_table = "  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, -60, -30, 0], values_urad: [35, 22, 10, 0],"
+                              " interpolation: linear}\n";
+  auto tilted = DiagnoseAgainstInstrument(loaded, MapsPiece(cold + a_table, 26), raw, {});
+  ASSERT_TRUE(tilted.ok()) << tilted.status().ToString();
+  EXPECT_EQ(tilted->verdict.family, "rotary_positioning") << DiagnosisText(*tilted);
+  EXPECT_NE(tilted->verdict.name.find("of A"), std::string::npos) << tilted->verdict.name;
   // The ball bar's identification JSON (tpcal identify --instrument ballbar --json) as the reference:
   // with its map response it reads as the raw file; without it (a file written before the response
   // was), its note says the folded share is not known, and the cold piece reads the rotary motion.

@@ -107,9 +107,9 @@ void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
   specs->push_back(s2);
 }
 
-// rotary_error_motion (radial, axial, tilt: 2 to 5 lobes) and rotary_positioning (orders 1 to 4)
-// of the rotary axis `k_axis`.
-void RotaryAxisSpecs(Axis k_axis, std::vector<MachineSpec>* specs) {
+// rotary_error_motion (radial, axial, tilt: 2 to 5 lobes; with `motions`) and rotary_positioning
+// (orders 1 to 4) of the rotary axis `k_axis`.
+void RotaryAxisSpecs(Axis k_axis, bool motions, std::vector<MachineSpec>* specs) {
   const std::string k = AxisString(k_axis);
   const std::string h_um = Harmonics(2, 5, "um"), h_urad = Harmonics(2, 5, "urad");
   auto item = [&](const std::string& sym, const std::string& h) {
@@ -119,11 +119,13 @@ void RotaryAxisSpecs(Axis k_axis, std::vector<MachineSpec>* specs) {
   if (k == "A") { radial_a = "Y"; radial_b = "Z"; tilt_a = "B"; tilt_b = "C"; }
   if (k == "B") { radial_a = "X"; radial_b = "Z"; tilt_a = "A"; tilt_b = "C"; }
   const std::string axial = k == "A" ? "X" : k == "B" ? "Y" : "Z";
-  specs->push_back({"rotary_error_motion", "radial error motion of " + k + ", 2 to 5 lobes",
-                    {item("E_" + radial_a + k, h_um), item("E_" + radial_b + k, h_um)}});
-  specs->push_back({"rotary_error_motion", "axial error motion of " + k + ", 2 to 5 lobes", {item("E_" + axial + k, h_um)}});
-  specs->push_back({"rotary_error_motion", "tilt error motion of " + k + ", 2 to 5 lobes",
-                    {item("E_" + tilt_a + k, h_urad), item("E_" + tilt_b + k, h_urad)}});
+  if (motions) {
+    specs->push_back({"rotary_error_motion", "radial error motion of " + k + ", 2 to 5 lobes",
+                      {item("E_" + radial_a + k, h_um), item("E_" + radial_b + k, h_um)}});
+    specs->push_back({"rotary_error_motion", "axial error motion of " + k + ", 2 to 5 lobes", {item("E_" + axial + k, h_um)}});
+    specs->push_back({"rotary_error_motion", "tilt error motion of " + k + ", 2 to 5 lobes",
+                      {item("E_" + tilt_a + k, h_urad), item("E_" + tilt_b + k, h_urad)}});
+  }
   specs->push_back({"rotary_positioning", "angular positioning error of " + k + ", orders 1 to 4",
                     {"{rotary_error_motion: {symbol: E_" + k + k + ", harmonics: " + Harmonics(1, 4, "urad") + "}}"}});
 }
@@ -138,7 +140,11 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
   ThermalDriftSpecs(rotary, duration_s, &specs);
   LinearAxisSpecs(&specs);
   if (!rotary.empty()) {
-    RotaryAxisSpecs(rotary.back(), &specs);
+    RotaryAxisSpecs(rotary.back(), true, &specs);
+    // The other rotary axes (A of an A/C table): their angular positioning only. Their error
+    // motions at the few angles a piece uses are offsets per angle, the location errors the base
+    // holds (in reference mode A's axial motion reads a 4 um dx_CR(0) of the reference).
+    for (std::size_t i = 0; i + 1 < rotary.size(); ++i) RotaryAxisSpecs(rotary[i], false, &specs);
   } else {
     not_applicable->push_back({"rotary_error_motion", "the machine has no rotary axis"});
     not_applicable->push_back({"rotary_positioning", "the machine has no rotary axis"});

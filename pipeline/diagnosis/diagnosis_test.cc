@@ -474,6 +474,31 @@ TEST(Diagnosis, AJointSearchFindsThePairForwardSelectionMisses) {
   EXPECT_GE(both, 3);
 }
 
+// An angular positioning error of A, the first rotary axis (turning piece, Table 2 base, noise 0.5
+// um, seeds 1 to 3): E_AA from 35 urad at A -90 to 0 at A 0, as the maps tests' table. The piece cuts
+// ops 7 and 8, its last, at A -90 and the rest at A 0, so the error is a step between them, which a
+// drift of the table with machining time also fits. Truth: the catalogue's candidate for A's
+// positioning explains it significantly and is named, as the verdict or beside it as
+// indistinguishable (the catalogue held no candidate of A before: such pieces read as a drift).
+TEST(Diagnosis, ThePositioningOfTheFirstRotaryAxisIsACandidate) {
+  const Fixture f = Make();
+  const auto errors = Table2(f.machine, "effects:\n  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, -60, -30, 0],"
+                                        " values_urad: [35, 22, 10, 0], interpolation: linear}\n");
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    auto sim = testpieces::SimulatePiece(f.piece, f.machine, errors, SimOptions(0.5, seed));
+    ASSERT_TRUE(sim.ok()) << sim.status().message();
+    auto d = Diagnose(f.piece, f.machine, sim->points);
+    ASSERT_TRUE(d.ok()) << d.status().message();
+    std::set<std::string> named(d->verdict.families.begin(), d->verdict.families.end());
+    named.insert(d->verdict.indistinguishable_from.begin(), d->verdict.indistinguishable_from.end());
+    EXPECT_TRUE(named.count("rotary_positioning")) << DiagnosisText(*d);
+    const auto a = std::find_if(d->candidates.begin(), d->candidates.end(),
+                                [](const auto& c) { return c.name == "angular positioning error of A, orders 1 to 4"; });
+    ASSERT_NE(a, d->candidates.end());
+    EXPECT_TRUE(a->significant) << DiagnosisText(*d);
+  }
+}
+
 // Reference mode (seed 002 section 4.4): the sim is the machine errors of Table 2's probing column,
 // the real piece was cut with the machining column; the gap is a change of location errors and the
 // `location_errors` candidate explains it entirely (noise-free data). Values: seed 002 Table 2
