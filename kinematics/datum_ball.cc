@@ -290,6 +290,7 @@ Result<DatumBallResult> IdentifyDatumBall(const MachineModel& model, std::span<c
     p.ci95_low = p.uncertainties.front().ci95_low, p.ci95_high = p.uncertainties.front().ci95_high;
     out.parameters.push_back(std::move(p));
   }
+  out.covariance = cov;
   out.fitted = errors;
   out.ball_part_mm = ball;
   if (fit_ball)

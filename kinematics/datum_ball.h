@@ -71,6 +71,9 @@ struct DatumBallResult {
   explicit DatumBallResult(ErrorState base) : fitted(std::move(base)) {}
   // Primary: analytic; uncertainties: analytic, jackknife_points (if on), monte_carlo (if on).
   std::vector<ParameterEstimate> parameters;
+  // Their analytic covariance (display units, k = 1, `parameters`' order): rank-deficient along
+  // the combinations the readings do not determine (zero there).
+  Eigen::MatrixXd covariance;
   Identifiability identifiability;
   ErrorState fitted;
   Eigen::Vector3d ball_part_mm = Eigen::Vector3d::Zero();  // fitted (or given)

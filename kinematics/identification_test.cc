@@ -495,5 +495,46 @@ TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalf
   EXPECT_FALSE(UpdateWithinPrior(m, prior, active, piece_u, obs, 0.0).ok());
 }
 
+// UpdateWithinPriorCovariance on the same box. Truth: the squareness set; the prior: the truth +20,
+// +20 and -20 urad, whose covariance knows only the sum of the first and third (variance 0.01
+// urad^2 along (1, 0, 1) / sqrt 2, nothing else: information 100 / urad^2, the piece's order).
+// The sum, right in the prior, is kept; their difference and the second come from the piece: the
+// truth, to the linearisation's second order (1e-3 urad, as above). With the same covariance's
+// diagonal as u (correlations dropped) the prior pulls the first toward its wrong value (measured
+// more than 5 urad off). A covariance of the wrong size, or not symmetric, is an error.
+TEST(PriorUpdate, ACovarianceKnowsOnlyTheCombinationsItSpans) {
+  const MachineModel m = IdentifyTestMachine();
+  const std::vector<std::string> names = IsoLocationSet(m);
+  ErrorState base(m), truth(m);
+  ActiveSet active;
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
+  ASSERT_EQ(names.size(), 3u);
+  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+  const double shift_urad[3] = {20.0, 20.0, -20.0};
+  ErrorState prior = truth;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int c = active.coefficients[k];
+    prior.set_coefficient(c, truth.coefficient(c) + shift_urad[k] / truth.coefficient_info(c).display_per_internal);
+  }
+  auto value = [&](const ErrorState& e, std::size_t k) {
+    const int c = active.coefficients[k];
+    return e.coefficient(c) * e.coefficient_info(c).display_per_internal;
+  };
+  const Eigen::Vector3d sum = Eigen::Vector3d(1.0, 0.0, 1.0) / std::sqrt(2.0);
+  const Eigen::MatrixXd cov = 0.01 * sum * sum.transpose();
+  auto up = UpdateWithinPriorCovariance(m, prior, active, cov, obs, 1.0);
+  ASSERT_TRUE(up.ok()) << up.status().ToString();
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(value(up->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
+  const std::vector<double> diag_u = {std::sqrt(cov(0, 0)), 0.0, std::sqrt(cov(2, 2))};
+  auto per_parameter = UpdateWithinPrior(m, prior, active, diag_u, obs, 1.0);
+  ASSERT_TRUE(per_parameter.ok()) << per_parameter.status().ToString();
+  EXPECT_GT(std::abs(value(per_parameter->posterior, 0) - kIdentifyTestSquareness_urad[0]), 5.0);
+  EXPECT_FALSE(UpdateWithinPriorCovariance(m, prior, active, Eigen::MatrixXd::Identity(2, 2), obs, 1.0).ok());
+  Eigen::MatrixXd skew = Eigen::MatrixXd::Identity(3, 3);
+  skew(0, 1) = 0.5;
+  EXPECT_FALSE(UpdateWithinPriorCovariance(m, prior, active, skew, obs, 1.0).ok());
+}
+
 }  // namespace
 }  // namespace tpcal::kinematics

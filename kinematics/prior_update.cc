@@ -25,14 +25,26 @@ Eigen::VectorXd PriorInformation(std::span<const double> prior_u) {
   return info;
 }
 
-}  // namespace
+// Information of a prior known by its covariance: its pseudo-inverse, nothing along the directions
+// it does not determine (eigenvalues below 1e-12 of the largest: rounding of a zero).
+Result<Eigen::MatrixXd> CovarianceInformation(const Eigen::MatrixXd& cov) {
+  if (cov.size() == 0) return cov;
+  if (!cov.allFinite() || (cov - cov.transpose()).cwiseAbs().maxCoeff() > 1e-9 * cov.cwiseAbs().maxCoeff())
+    return Status(StatusCode::kInvalidArgument, "prior update: the prior's covariance is not finite and symmetric");
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double top = lambda.maxCoeff();
+  if (lambda.minCoeff() < -1e-9 * top)
+    return Status(StatusCode::kInvalidArgument, "prior update: the prior's covariance is not positive semi-definite");
+  Eigen::MatrixXd info = Eigen::MatrixXd::Zero(cov.rows(), cov.cols());
+  for (Eigen::Index k = 0; k < lambda.size(); ++k)
+    if (lambda(k) > 1e-12 * top) info += eig.eigenvectors().col(k) * eig.eigenvectors().col(k).transpose() / lambda(k);
+  return info;
+}
 
-Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
-                                      std::span<const double> prior_u, std::span<const Observation> observations,
-                                      double sigma_um) {
-  if (prior_u.size() != active.coefficients.size())
-    return Status(StatusCode::kInvalidArgument, "prior update: " + std::to_string(prior_u.size()) +
-                                                    " uncertainties for " + std::to_string(active.size()) + " coefficients");
+Result<PriorUpdate> UpdateWithInformation(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
+                                          const Eigen::MatrixXd& prior_info, std::span<const Observation> observations,
+                                          double sigma_um) {
   if (!(sigma_um > 0.0)) return Status(StatusCode::kInvalidArgument, "prior update: noise sigma must be > 0 um");
   if (observations.empty()) return Status(StatusCode::kInvalidArgument, "prior update: no observation");
   auto lin = LineariseObservations(model, prior, active, observations);
@@ -40,8 +52,7 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
   const Eigen::MatrixXd J = WithoutSpanOf(lin->J_dev_alignment, lin->J_dev_params);
   const Eigen::VectorXd y = WithoutSpanOf(lin->J_dev_alignment, lin->measured_dev_um - lin->predicted_dev_um);
   const double w = 1.0 / (sigma_um * sigma_um);
-  Eigen::MatrixXd info = w * J.transpose() * J;
-  info.diagonal() += PriorInformation(prior_u);
+  Eigen::MatrixXd info = w * J.transpose() * J + prior_info;
   // Coefficients neither sees (information below kUnseen of the best-seen one's: u more than
   // 1000x the best's, as Identify's rank tolerance 1e-3) are left at the prior; the rest solved.
   constexpr double kUnseen = 1e-6;
@@ -75,6 +86,31 @@ Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorStat
     out.posterior_u.push_back(std::sqrt(std::max(0.0, var(k))));
   }
   return out;
+}
+
+}  // namespace
+
+Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
+                                      std::span<const double> prior_u, std::span<const Observation> observations,
+                                      double sigma_um) {
+  if (prior_u.size() != active.coefficients.size())
+    return Status(StatusCode::kInvalidArgument, "prior update: " + std::to_string(prior_u.size()) +
+                                                    " uncertainties for " + std::to_string(active.size()) + " coefficients");
+  const Eigen::MatrixXd info = PriorInformation(prior_u).asDiagonal();
+  return UpdateWithInformation(model, prior, active, info, observations, sigma_um);
+}
+
+Result<PriorUpdate> UpdateWithinPriorCovariance(const MachineModel& model, const ErrorState& prior,
+                                                const ActiveSet& active, const Eigen::MatrixXd& prior_cov,
+                                                std::span<const Observation> observations, double sigma_um) {
+  const auto q = static_cast<Eigen::Index>(active.coefficients.size());
+  if (prior_cov.rows() != q || prior_cov.cols() != q)
+    return Status(StatusCode::kInvalidArgument, "prior update: a " + std::to_string(prior_cov.rows()) + " x " +
+                                                    std::to_string(prior_cov.cols()) + " covariance for " +
+                                                    std::to_string(q) + " coefficients");
+  auto info = CovarianceInformation(prior_cov);
+  if (!info.ok()) return info.status();
+  return UpdateWithInformation(model, prior, active, *info, observations, sigma_um);
 }
 
 }  // namespace tpcal::kinematics

@@ -6,11 +6,13 @@
 //   delta = (J^T P J / sigma^2 + S^-1)^-1 J^T P y / sigma^2,  posterior = prior + delta.
 // A coefficient the prior does not know (u <= 0 or not finite) is weighed by the piece alone;
 // one neither sees (information below 1e-6 of the best-seen coefficient's) keeps the prior's
-// value, as does a direction below 1e-9 of the Jacobi-scaled information. Correlations within the prior are not used (the
-// probing-test results give u per parameter); with u -> 0 the prior is kept, with u -> infinity
-// the result is the piece's own least-squares fit (linearised at the prior).
+// value, as does a direction below 1e-9 of the Jacobi-scaled information. With u -> 0 the prior
+// is kept, with u -> infinity the result is the piece's own least-squares fit (linearised at the
+// prior). UpdateWithinPriorCovariance takes the prior's full covariance instead (correlations
+// used; S^-1 its pseudo-inverse: a singular S knows only the combinations it spans).
 #pragma once
 
+#include <Eigen/Core>
 #include <span>
 #include <vector>
 
@@ -34,5 +36,13 @@ struct PriorUpdate {
 Result<PriorUpdate> UpdateWithinPrior(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
                                       std::span<const double> prior_u, std::span<const Observation> observations,
                                       double sigma_um);
+
+// As UpdateWithinPrior with the prior's covariance `prior_cov` (display units, active order; zero
+// or rank-deficient along what the prior does not determine). Errors: kInvalidArgument (its size
+// is not the active set's, not finite, not symmetric or not positive semi-definite), those of
+// UpdateWithinPrior.
+Result<PriorUpdate> UpdateWithinPriorCovariance(const MachineModel& model, const ErrorState& prior,
+                                                const ActiveSet& active, const Eigen::MatrixXd& prior_cov,
+                                                std::span<const Observation> observations, double sigma_um);
 
 }  // namespace tpcal::kinematics

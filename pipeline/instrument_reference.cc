@@ -157,6 +157,7 @@ Result<InstrumentReference> IrIdentify(const LoadedPiece& setup, const Instrumen
   out.instrument = r.instrument;
   out.machine_type = ball->machine;
   out.parameters = ball->result.parameters;
+  out.parameter_covariance = ball->result.covariance;
   return out;
 }
 
@@ -166,24 +167,29 @@ std::vector<std::string> NamesOf(const std::vector<kinematics::ParameterEstimate
   return names;
 }
 
-// The instrument's estimates as errors on the piece's machine (unidentifiable ones at zero); the
-// active set and u (0: unknown) of the parameters the piece may update: none when `hold`.
+// The instrument's estimates as errors on the piece's machine; the active set and u (0: unknown)
+// of the parameters the piece may update (none when `hold`), and their covariance when the
+// instrument gives it. Without it unidentifiable ones are at zero; with it at the instrument's
+// values, which its covariance weighs only along the combinations it determines.
 struct Prior {
   explicit Prior(const kinematics::MachineModel& m) : errors(m) {}
   kinematics::ErrorState errors;
   kinematics::ActiveSet active;
   std::vector<std::string> names;
   std::vector<double> u;
+  Eigen::MatrixXd covariance;  // empty: u alone
 };
 
 Result<Prior> InstrumentPrior(const kinematics::MachineModel& m, const std::vector<kinematics::ParameterEstimate>& params,
-                              bool hold) {
+                              const Eigen::MatrixXd& covariance, bool hold) {
   Prior prior(m);
   auto all = kinematics::ActivateParameters(m, &prior.errors, NamesOf(params));
   if (!all.ok()) return all.status();
+  const auto n = static_cast<Eigen::Index>(params.size());
+  if (!hold && covariance.rows() == n && covariance.cols() == n) prior.covariance = covariance;
   for (std::size_t k = 0; k < params.size(); ++k) {
     const int c = all->coefficients[k];
-    const bool known = params[k].identifiable;
+    const bool known = params[k].identifiable || prior.covariance.size() > 0;
     prior.errors.set_coefficient(c, known ? params[k].value / prior.errors.coefficient_info(c).display_per_internal : 0.0);
     if (hold) continue;
     prior.active.coefficients.push_back(c);
@@ -202,8 +208,8 @@ std::string UpdateNote(const Prior& prior, const kinematics::PriorUpdate& up, co
     for (std::size_t k = 1; k < up.delta.size(); ++k)
       if (std::abs(up.delta[k]) > std::abs(up.delta[worst])) worst = k;
     const auto& info = prior.errors.coefficient_info(prior.active.coefficients[worst]);
-    note += fmt::format(" updated by the piece within their u (largest change {} {:+.3f} {})", prior.names[worst],
-                        up.delta[worst], info.unit);
+    note += fmt::format(" updated by the piece within their {} (largest change {} {:+.3f} {})",
+                        prior.covariance.size() > 0 ? "covariance" : "u", prior.names[worst], up.delta[worst], info.unit);
   }
   if (!held.empty())
     note += fmt::format(" as measured, except {}, on which the piece disagrees: refitted on top of them (the gap "
@@ -278,13 +284,15 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
   // would absorb part of the departure), and those parameters are refitted on top of it: a drift
   // of a tilt leaves its mean there as changed location errors, and only what remains is the
   // effect's own signature for the catalogue.
-  auto prior = InstrumentPrior(setup.machine, ref.parameters, !held.empty());
+  auto prior = InstrumentPrior(setup.machine, ref.parameters, ref.parameter_covariance, !held.empty());
   if (!prior.ok()) return prior.status();
   const double sigma_um = options.noise_um > 0.0 ? options.noise_um : std::max(piece->identification.sigma_um, 1e-3);
-  auto update = prior->active.size() == 0
-                    ? Result<kinematics::PriorUpdate>(kinematics::PriorUpdate(prior->errors))
-                    : kinematics::UpdateWithinPrior(setup.machine, prior->errors, prior->active, prior->u,
-                                                    piece->observations.observations, sigma_um);
+  const auto& obs = piece->observations.observations;
+  auto update = prior->active.size() == 0 ? Result<kinematics::PriorUpdate>(kinematics::PriorUpdate(prior->errors))
+                : prior->covariance.size() > 0
+                    ? kinematics::UpdateWithinPriorCovariance(setup.machine, prior->errors, prior->active,
+                                                              prior->covariance, obs, sigma_um)
+                    : kinematics::UpdateWithinPrior(setup.machine, prior->errors, prior->active, prior->u, obs, sigma_um);
   if (!update.ok()) return update.status();
   DiagnosisOptions d_options = instrument_reference_internal::OptionsForReference(options, ref, update->posterior);
   d_options.reference_free.assign(held.begin(), held.end());

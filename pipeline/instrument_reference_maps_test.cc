@@ -214,7 +214,8 @@ TEST(InstrumentReferenceMaps, TheCallersIdentificationIsReused) {
 // from the piece, and the directions the folded squareness moves the maps along in the base model.
 // Truth: the cold piece reads none (measured before: location_errors with nothing fitted from the
 // piece; rotary_error_motion with the folded squareness left in the maps); the piece cut with an 8
-// um E_X0C drift reads thermal_drift. The ball bar's identification JSON carries the folded share
+// um E_X0C drift reads thermal_drift, and with an E_AA table over A (which the ball bar at A 0
+// never sees) rotary_positioning of A. The ball bar's identification JSON carries the folded share
 // as its map response: the cold piece reads none against it too.
 TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   const std::filesystem::path dir = MapsTestDir();
@@ -245,8 +246,7 @@ TEST(InstrumentReferenceMaps, BallbarReferenceFitsWhatItCannotSee) {
   ASSERT_TRUE(warm.ok()) << warm.status().ToString();
   EXPECT_EQ(warm->verdict.family, "thermal_drift") << DiagnosisText(*warm);
   // A's angular positioning (E_AA, 35 urad at A -90, 0 at A 0), which the ball bar at A 0 never
-  // sees: the gap holds it and the catalogue's candidate for A names it (measured 5 of 5 seeds;
-  // with candidates for C alone the piece read thermal_drift).
+  // sees: the gap holds it and the catalogue's candidate for A names it (5 of 5 seeds measured).
   const std::string a_table = "  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, -60, -30, 0], values_urad: [35, 22, 10, 0],"
                               " interpolation: linear}\n";
   auto tilted = DiagnoseAgainstInstrument(loaded, MapsPiece(cold + a_table, 26), raw, {});

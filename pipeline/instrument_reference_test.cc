@@ -161,7 +161,9 @@ TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
 
 // The identification JSON `tpcal identify --instrument datum_ball --json` writes serves as the
 // reference as the raw file does: the same table to the last bit of what the JSON keeps
-// (values and u round-trip through nlohmann's shortest form exactly).
+// (values and u round-trip through nlohmann's shortest form exactly). It keeps u, not the
+// correlations the raw file's covariance gives the update: the gaps agree to 0.05 um, a tenth of
+// the piece's 0.5 um noise.
 TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) {
   const std::string ballpos = WriteBallpos(0.5, 11);
   auto report = RunDatumBallStage({.path = ballpos, .machine_path = "", .parameters = {}, .ball_part_mm = {}});
@@ -177,7 +179,7 @@ TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) 
     EXPECT_EQ(raw->reference_agreement->rows[k].instrument_value, js->reference_agreement->rows[k].instrument_value);
   }
   EXPECT_EQ(js->reference_agreement->instrument, "datum_ball");
-  EXPECT_EQ(raw->rms_um, js->rms_um);
+  EXPECT_NEAR(raw->rms_um, js->rms_um, 0.05) << "raw " << raw->rms_um << ", json " << js->rms_um;
   std::ofstream(InstrumentTestDir() / "bad.json") << "{\"schema\": \"tpcal.identification/1\",\n \"parameters\": [{\"name\": \"E_X0C\", \"unit\": \"um\", \"identifiable\": true, \"u\": 1}]}";
   auto bad = AgainstBall(piece, (InstrumentTestDir() / "bad.json").string());
   ASSERT_FALSE(bad.ok());

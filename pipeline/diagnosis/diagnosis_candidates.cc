@@ -133,7 +133,7 @@ void RotaryAxisSpecs(Axis k_axis, bool motions, std::vector<MachineSpec>* specs)
 std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double duration_s,
                                       std::vector<std::pair<std::string, std::string>>* not_applicable) {
   std::vector<MachineSpec> specs;
-  // Rotary axes: the first on the workpiece branch carries the part; the last is the spindle-like table.
+  // Rotary axes in A, B, C order: C, the last, is the spindle-like table on every machine here.
   std::vector<Axis> rotary;
   for (Axis a : {Axis::kA, Axis::kB, Axis::kC})
     if (m.HasAxis(a)) rotary.push_back(a);
@@ -141,9 +141,10 @@ std::vector<MachineSpec> MachineSpecs(const kinematics::MachineModel& m, double 
   LinearAxisSpecs(&specs);
   if (!rotary.empty()) {
     RotaryAxisSpecs(rotary.back(), true, &specs);
-    // The other rotary axes (A of an A/C table): their angular positioning only. Their error
-    // motions at the few angles a piece uses are offsets per angle, the location errors the base
-    // holds (in reference mode A's axial motion reads a 4 um dx_CR(0) of the reference).
+    // The other rotary axis (A of an A/C table, B of a B/C one): its angular positioning only. Its
+    // error motions at the few angles a piece uses act as offsets per angle, which the location
+    // errors also hold: against a reference, A's axial motion takes a location error of the
+    // reference (Diagnosis.ReferenceUncertaintyIsFittedNotBlamed).
     for (std::size_t i = 0; i + 1 < rotary.size(); ++i) RotaryAxisSpecs(rotary[i], false, &specs);
   } else {
     not_applicable->push_back({"rotary_error_motion", "the machine has no rotary axis"});

@@ -13,8 +13,9 @@
 //   rotary_error_motion  Fourier orders 2..5 of the last rotary axis (C): radial E_XC, E_YC;
 //                        axial E_ZC; tilt E_AC, E_BC;
 //   rotary_positioning   Fourier orders 1..4 of the angular positioning of each rotary axis: E_CC,
-//                        then E_AA on an A/C table (the other axes' error motions, at the few
-//                        angles a piece uses, are offsets per angle: location errors).
+//                        then E_AA (A/C table) or E_BB (B/C). The other axis's error motions are
+//                        not candidates: at the few angles a piece uses they act as offsets per
+//                        angle, which the location errors also hold.
 // Process families are columns from the cut model of each point's feature (testpieces/cut_model.h):
 //   tool_deflection      per cut class (turned side face, turned bottom face, side-milled wall,
 //                        end-milled floor): compliance along machine X, Y, Z with a force along

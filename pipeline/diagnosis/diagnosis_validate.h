@@ -89,6 +89,7 @@ struct ValidationTrial {
   bool observable = true;      // false: the base model absorbs the effect (visible_fraction < min)
   double visible_fraction = 0.0;  // |signature left after the base| / |signature|
   std::string verdict;
+  std::string verdict_name;    // the verdict candidate's name (which axis a rotary family's is)
   std::vector<std::string> indistinguishable_from;
   double effect_rms_um = 0.0;     // RMS of the visible signature
   // Of the verdict (0 for none): (cv_before^2 - cv_after^2) / cv_effect^2, cv_effect = the same CV
