@@ -495,6 +495,37 @@ TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalf
   EXPECT_FALSE(UpdateWithinPrior(m, prior, active, piece_u, obs, 0.0).ok());
 }
 
+// A prior far tighter on one coefficient than the piece on any: u = 1e-5 urad on the first
+// (information 1e10 / urad^2, 1e8 times the piece's ~100) at its true value, none on the other two,
+// which start 20 urad off. What the piece sees is judged against the piece's own information, not
+// the prior's: the other two come from the piece (the truth to 1e-3 urad, as above) with a u > 0,
+// the first stays at the truth.
+TEST(PriorUpdate, APriorTightOnOneCoefficientDoesNotHideWhatThePieceSees) {
+  const MachineModel m = IdentifyTestMachine();
+  const std::vector<std::string> names = IsoLocationSet(m);
+  ErrorState base(m), truth(m);
+  ActiveSet active;
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
+  ASSERT_EQ(names.size(), 3u);
+  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+  const double shift_urad[3] = {0.0, 20.0, -20.0};
+  ErrorState prior = truth;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int c = active.coefficients[k];
+    prior.set_coefficient(c, truth.coefficient(c) + shift_urad[k] / truth.coefficient_info(c).display_per_internal);
+  }
+  auto up = UpdateWithinPrior(m, prior, active, std::vector<double>{1e-5, 0.0, 0.0}, obs, 1.0);
+  ASSERT_TRUE(up.ok()) << up.status().ToString();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int c = active.coefficients[k];
+    const double value = up->posterior.coefficient(c) * up->posterior.coefficient_info(c).display_per_internal;
+    EXPECT_NEAR(value, kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
+  }
+  EXPECT_GT(up->posterior_u[1], 0.0);
+  EXPECT_GT(up->posterior_u[2], 0.0);
+}
+
 // UpdateWithinPriorCovariance on the same box. Truth: the squareness set; the prior: the truth +20,
 // +20 and -20 urad, whose covariance knows only the sum of the first and third (variance 0.01
 // urad^2 along (1, 0, 1) / sqrt 2, nothing else: information 100 / urad^2, the piece's order).

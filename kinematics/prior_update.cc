@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace tpcal::kinematics {
 namespace {
@@ -42,6 +43,21 @@ Result<Eigen::MatrixXd> CovarianceInformation(const Eigen::MatrixXd& cov) {
   return info;
 }
 
+// Coefficients the piece or the prior sees, each judged against its own best-seen coefficient
+// (information above 1e-6 of it: u less than 1000x the best's, as Identify's rank tolerance 1e-3).
+// Each on its own scale: a prior far tighter on one coefficient than the piece on any does not hide
+// what the piece sees. The others are left at the prior.
+std::vector<Eigen::Index> SeenCoefficients(const Eigen::MatrixXd& piece_info, const Eigen::MatrixXd& prior_info) {
+  constexpr double kUnseen = 1e-6;
+  const Eigen::Index n = piece_info.rows();
+  std::vector<Eigen::Index> seen;
+  if (n == 0) return seen;
+  const double piece_best = piece_info.diagonal().maxCoeff(), prior_best = prior_info.diagonal().maxCoeff();
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (piece_info(k, k) > kUnseen * piece_best || prior_info(k, k) > kUnseen * prior_best) seen.push_back(k);
+  return seen;
+}
+
 Result<PriorUpdate> UpdateWithInformation(const MachineModel& model, const ErrorState& prior, const ActiveSet& active,
                                           const Eigen::MatrixXd& prior_info, std::span<const Observation> observations,
                                           double sigma_um) {
@@ -52,14 +68,9 @@ Result<PriorUpdate> UpdateWithInformation(const MachineModel& model, const Error
   const Eigen::MatrixXd J = WithoutSpanOf(lin->J_dev_alignment, lin->J_dev_params);
   const Eigen::VectorXd y = WithoutSpanOf(lin->J_dev_alignment, lin->measured_dev_um - lin->predicted_dev_um);
   const double w = 1.0 / (sigma_um * sigma_um);
-  Eigen::MatrixXd info = w * J.transpose() * J + prior_info;
-  // Coefficients neither sees (information below kUnseen of the best-seen one's: u more than
-  // 1000x the best's, as Identify's rank tolerance 1e-3) are left at the prior; the rest solved.
-  constexpr double kUnseen = 1e-6;
-  const double best = info.diagonal().maxCoeff();
-  std::vector<Eigen::Index> seen;
-  for (Eigen::Index k = 0; k < info.rows(); ++k)
-    if (info(k, k) > kUnseen * best) seen.push_back(k);
+  const Eigen::MatrixXd piece_info = w * J.transpose() * J;
+  const Eigen::MatrixXd info = piece_info + prior_info;
+  const std::vector<Eigen::Index> seen = SeenCoefficients(piece_info, prior_info);
   const auto q = static_cast<Eigen::Index>(seen.size());
   Eigen::MatrixXd info_seen(q, q);
   Eigen::VectorXd rhs_seen(q);

@@ -5,8 +5,8 @@
 // re-alignment projected out (P), noise sigma and the prior's covariance S = diag(u^2):
 //   delta = (J^T P J / sigma^2 + S^-1)^-1 J^T P y / sigma^2,  posterior = prior + delta.
 // A coefficient the prior does not know (u <= 0 or not finite) is weighed by the piece alone;
-// one neither sees (information below 1e-6 of the best-seen coefficient's) keeps the prior's
-// value, as does a direction below 1e-9 of the Jacobi-scaled information. With u -> 0 the prior
+// one neither sees (information below 1e-6 of the piece's best-seen coefficient's, and of the
+// prior's best-known one's) keeps the prior's value, as does a direction below 1e-9 of the Jacobi-scaled information. With u -> 0 the prior
 // is kept, with u -> infinity the result is the piece's own least-squares fit (linearised at the
 // prior). UpdateWithinPriorCovariance takes the prior's full covariance instead (correlations
 // used; S^-1 its pseudo-inverse: a singular S knows only the combinations it spans).

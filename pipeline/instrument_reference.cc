@@ -57,6 +57,9 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     e.name = p.name, e.unit = p.unit, e.identifiable = p.identifiable, e.value = p.value, e.u = p.u;
     out.parameters.push_back(std::move(e));
   }
+  const auto n = static_cast<Eigen::Index>(file->parameters.size());
+  if (!file->parameter_covariance.empty())
+    out.parameter_covariance = Eigen::Map<const Eigen::MatrixXd>(file->parameter_covariance.data(), n, n);
   if (!file->errors_yaml.empty()) {
     out.map_entries = file->map_entries;
     out.not_identifiable = file->not_identifiable;

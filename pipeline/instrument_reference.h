@@ -66,8 +66,8 @@ struct InstrumentReference {
   // maps: the constant errors identified with them (probe_artifacts: the linear axes' squareness),
   // already in `maps` at their values.
   std::vector<kinematics::ParameterEstimate> parameters;
-  // Their covariance (display units, `parameters`' order) when the datum ball was identified here;
-  // empty otherwise (a .json: u per parameter, correlations unknown).
+  // Their covariance (display units, `parameters`' order) when the datum ball was identified here
+  // or its .json carries one ("parameter_covariance"); empty otherwise (u alone, correlations unknown).
   Eigen::MatrixXd parameter_covariance;
   // Error maps (probe_artifacts, ballbar): the instrument's errors as measured.
   std::optional<kinematics::ErrorState> maps;

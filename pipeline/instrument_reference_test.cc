@@ -160,10 +160,10 @@ TEST(InstrumentReference, UnknownInstrumentAndOtherMachineTypeAreNamed) {
 }
 
 // The identification JSON `tpcal identify --instrument datum_ball --json` writes serves as the
-// reference as the raw file does: the same table to the last bit of what the JSON keeps
-// (values and u round-trip through nlohmann's shortest form exactly). It keeps u, not the
-// correlations the raw file's covariance gives the update: the gaps agree to 0.05 um, a tenth of
-// the piece's 0.5 um noise.
+// reference as the raw file does: the same table and the same gap, since values, u and the
+// covariance round-trip through nlohmann's shortest form exactly (1e-9 um allowed for the sums'
+// order). A JSON without its covariance (an older file) keeps u alone, not the correlations the
+// update weighs: its gap agrees to 0.05 um, a tenth of the piece's 0.5 um noise.
 TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) {
   const std::string ballpos = WriteBallpos(0.5, 11);
   auto report = RunDatumBallStage({.path = ballpos, .machine_path = "", .parameters = {}, .ball_part_mm = {}});
@@ -179,7 +179,15 @@ TEST(InstrumentReference, IdentificationJsonGivesTheSameComparisonAsTheRawFile) 
     EXPECT_EQ(raw->reference_agreement->rows[k].instrument_value, js->reference_agreement->rows[k].instrument_value);
   }
   EXPECT_EQ(js->reference_agreement->instrument, "datum_ball");
-  EXPECT_NEAR(raw->rms_um, js->rms_um, 0.05) << "raw " << raw->rms_um << ", json " << js->rms_um;
+  EXPECT_NEAR(raw->rms_um, js->rms_um, 1e-9) << "raw " << raw->rms_um << ", json " << js->rms_um;
+  std::string text = DatumBallJson(*report);
+  const std::size_t at = text.find("\"parameter_covariance\"");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, text.find("\"fit\"", at) - at, "");
+  std::ofstream(InstrumentTestDir() / "ball_u.json") << text;
+  auto u_alone = AgainstBall(piece, (InstrumentTestDir() / "ball_u.json").string());
+  ASSERT_TRUE(u_alone.ok()) << u_alone.status().ToString();
+  EXPECT_NEAR(raw->rms_um, u_alone->rms_um, 0.05) << "raw " << raw->rms_um << ", u alone " << u_alone->rms_um;
   std::ofstream(InstrumentTestDir() / "bad.json") << "{\"schema\": \"tpcal.identification/1\",\n \"parameters\": [{\"name\": \"E_X0C\", \"unit\": \"um\", \"identifiable\": true, \"u\": 1}]}";
   auto bad = AgainstBall(piece, (InstrumentTestDir() / "bad.json").string());
   ASSERT_FALSE(bad.ok());

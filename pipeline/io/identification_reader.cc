@@ -160,6 +160,36 @@ Status ReadMapFields(const json& doc, const std::string& source, IdentificationF
   return Status::Ok();
 }
 
+// "parameter_covariance" (optional): n rows of n finite numbers for the n parameters, symmetric.
+Status ReadParameterCovariance(const json& doc, const std::string& source, IdentificationFile* out) {
+  auto it = doc.find("parameter_covariance");
+  if (it == doc.end() || it->is_null()) return Status::Ok();
+  const std::size_t n = out->parameters.size();
+  const std::string expected =
+      fmt::format("\"parameter_covariance\": expected {} rows of {} finite numbers (one per parameter)", n, n);
+  if (!it->is_array() || it->size() != n) return IdParseError(source, expected);
+  std::vector<double> cov;
+  cov.reserve(n * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const json& row = (*it)[i];
+    if (!row.is_array() || row.size() != n) return IdParseError(source, expected + fmt::format(": row {}", i));
+    for (const json& v : row) {
+      if (!v.is_number() || !std::isfinite(v.get<double>()))
+        return IdParseError(source, expected + fmt::format(": row {}", i));
+      cov.push_back(v.get<double>());
+    }
+  }
+  double largest = 0.0;
+  for (double v : cov) largest = std::max(largest, std::abs(v));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (std::abs(cov[i * n + k] - cov[k * n + i]) > 1e-9 * largest)
+        return IdParseError(source, fmt::format("\"parameter_covariance\": expected a symmetric matrix (rows {} and {} "
+                                                "differ)", k, i));
+  out->parameter_covariance = std::move(cov);
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source) {
@@ -191,6 +221,7 @@ Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const 
     if (!p.ok()) return p.status();
     out.parameters.push_back(std::move(*p));
   }
+  TPCAL_RETURN_IF_ERROR(ReadParameterCovariance(doc, source, &out));
   return out;
 }
 

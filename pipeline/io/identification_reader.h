@@ -26,6 +26,9 @@ struct IdentificationFile {
   // A parameter file's; of an error-map instrument's, the constant errors identified with its
   // maps (probe_artifacts: the linear axes' squareness), optional there.
   std::vector<IdentifiedParameter> parameters;
+  // The parameters' covariance ("parameter_covariance", display units, k = 1, their order),
+  // row-major, n x n; empty when the file has none (only u per parameter is then known).
+  std::vector<double> parameter_covariance;
   // An error-map instrument's file (probe_artifacts, ballbar): its maps as one tpcal.errors/1
   // document ("errors_yaml"), the number of map entries, those without a number and (ball bar)
   // the families its installations cannot separate ("C: ..."). Empty for a parameter file.
@@ -48,7 +51,8 @@ struct IdentificationFile {
 // number (u >= 0) — located as parameters[i] ("name"); a ball-bar axis whose "response_to" is not
 // a non-empty array of strings, or not the same (names, or absence) on every axis with errors, or
 // an entry of such an axis without a string "coefficient" or whose "response" is not one finite
-// number per name — located as axes[i] or axes[i].errors[k].
+// number per name — located as axes[i] or axes[i].errors[k]; a "parameter_covariance" that is
+// not one row of finite numbers per parameter, each as long, symmetric to 1e-9 of its largest.
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);
 // The file at `path`; also kIoError when it cannot be read.
 Result<IdentificationFile> ReadIdentificationJson(const std::string& path);

@@ -1,6 +1,6 @@
 // The identification reader (pipeline/io/identification_reader.h) on a ball bar's map response:
 // a well-formed file gives the names and one row per entry; each malformed response fails at the
-// axis or entry it names.
+// axis or entry it names. On a datum ball's parameter covariance likewise.
 #include "pipeline/io/identification_reader.h"
 
 #include <gtest/gtest.h>
@@ -53,6 +53,40 @@ TEST(IdentificationReader, AMalformedMapResponseFailsWhereItIs) {
     EXPECT_EQ(f.status().code(), StatusCode::kParseError);
     EXPECT_EQ(f.status().file(), "bad.json");
     EXPECT_NE(f.status().message().find(c.message), std::string::npos) << f.status().ToString();
+  }
+}
+
+// A datum ball's parameter file with its covariance (two parameters, 2 x 2): read row-major;
+// absent or null gives none; a wrong size, a non-number or an asymmetric matrix fails naming the key.
+constexpr const char* kIrtBall = R"({"schema": "tpcal.identification/1", "instrument": "datum_ball", "machine": "ac_table",
+ "parameters": [{"name": "E_X0C", "unit": "um", "identifiable": true, "value": 1.5, "u": 0.3},
+                {"name": "E_A0C", "unit": "urad", "identifiable": true, "value": -2, "u": 0.4}],
+ "parameter_covariance": [[0.09, 0.06], [0.06, 0.16]]})";
+
+TEST(IdentificationReader, ReadsAParameterCovariance) {
+  auto f = ParseIdentificationJson(kIrtBall, "ball.json");
+  ASSERT_TRUE(f.ok()) << f.status().ToString();
+  EXPECT_EQ(f->parameter_covariance, (std::vector<double>{0.09, 0.06, 0.06, 0.16}));
+  std::string text = kIrtBall;
+  text.replace(text.find("[[0.09"), std::string("[[0.09, 0.06], [0.06, 0.16]]").size(), "null");
+  auto none = ParseIdentificationJson(text, "ball.json");
+  ASSERT_TRUE(none.ok()) << none.status().ToString();
+  EXPECT_TRUE(none->parameter_covariance.empty());
+  struct Case { const char* to; const char* message; };
+  const Case cases[] = {
+      {"[[0.09, 0.06]]", "\"parameter_covariance\": expected 2 rows of 2 finite numbers"},
+      {"[[0.09, 0.06], [0.06]]", "expected 2 rows of 2 finite numbers (one per parameter): row 1"},
+      {"[[0.09, \"x\"], [0.06, 0.16]]", "row 0"},
+      {"[[0.09, 0.06], [0.07, 0.16]]", "expected a symmetric matrix (rows 0 and 1 differ)"},
+      {"{}", "expected 2 rows of 2 finite numbers"},
+  };
+  for (const Case& c : cases) {
+    std::string bad = kIrtBall;
+    bad.replace(bad.find("[[0.09"), std::string("[[0.09, 0.06], [0.06, 0.16]]").size(), c.to);
+    auto f2 = ParseIdentificationJson(bad, "bad.json");
+    ASSERT_FALSE(f2.ok()) << c.to;
+    EXPECT_EQ(f2.status().code(), StatusCode::kParseError);
+    EXPECT_NE(f2.status().message().find(c.message), std::string::npos) << f2.status().ToString();
   }
 }
 

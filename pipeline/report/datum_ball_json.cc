@@ -24,6 +24,13 @@ std::string DatumBallJson(const DatumBallReport& report) {
   for (const auto& p : r.parameters) params.push_back(ParameterEstimateJson(p));
   j["parameters"] = std::move(params);
   j["identifiability"] = IdentifiabilityJson(r.identifiability, r.parameters);
+  Json cov = Json::array();
+  for (Eigen::Index i = 0; i < r.covariance.rows(); ++i) {
+    Json row = Json::array();
+    for (Eigen::Index k = 0; k < r.covariance.cols(); ++k) row.push_back(r.covariance(i, k));
+    cov.push_back(std::move(row));
+  }
+  j["parameter_covariance"] = std::move(cov);
   j["fit"] = {{"rms_before_um", r.rms_before_um},
               {"rms_after_um", r.rms_after_um},
               {"sigma_um", r.sigma_um},
