@@ -38,6 +38,17 @@ Status DiagnosisOptions::Validate() const {
   return {};
 }
 
+std::vector<std::string> SameFamilyAlternatives(const DiagnosisResult& result) {
+  std::vector<std::string> out;
+  for (const std::string& name : result.verdict.indistinguishable_candidates)
+    for (const CandidateResult& c : result.candidates)
+      if (c.name == name && c.family == result.verdict.family) {
+        out.push_back(name);
+        break;
+      }
+  return out;
+}
+
 namespace {
 
 // Steps 1-4 of the diagnosis (diagnosis.h) on observations already screened: the base model

@@ -241,6 +241,11 @@ struct Verdict {
   std::string name = "nothing beyond measurement noise";
   double shrink_pct = 0.0, cv_shrink_pct = 0.0;
   std::vector<std::string> indistinguishable_from;
+  // The candidates (by name, ranking order) that explain the gap about as well as the verdict's
+  // by the same two tests, one by one rather than by family: another axis's candidate of the
+  // verdict's own family (A's angular positioning beside C's) is listed here, which
+  // indistinguishable_from, keyed by family, cannot say. `also`'s family is left out.
+  std::vector<std::string> indistinguishable_candidates;
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict
   // Every family the verdict names, leading first: the verdict's, `also`, and local_defect when
   // the screen found a patch beside a catalogue effect. Empty for none.
@@ -313,6 +318,10 @@ struct DiagnosisResult {
   // Against an instrument (pipeline/instrument_reference.h): where the two agree, parameter by parameter.
   std::optional<ReferenceAgreement> reference_agreement;
 };
+
+// The verdict's indistinguishable_candidates of the verdict's own family (another axis, another
+// shape of the same effect), by name: what indistinguishable_from, keyed by family, cannot name.
+std::vector<std::string> SameFamilyAlternatives(const DiagnosisResult& result);
 
 // The error slots the diagnosis linearises at the nominal machine for `observations`' piece: those
 // of its base set (options.base_parameters, or the piece's default) and of every machine-error

@@ -479,7 +479,9 @@ TEST(Diagnosis, AJointSearchFindsThePairForwardSelectionMisses) {
 // ops 7 and 8, its last, at A -90 and the rest at A 0, so the error is a step between them, which a
 // drift of the table with machining time also fits. Truth: the catalogue's candidate for A's
 // positioning explains it significantly, is its family's best (C's positioning does not take it)
-// and is named, as the verdict or beside it as indistinguishable.
+// and is named, as the verdict or beside it as indistinguishable. verdict.indistinguishable_candidates
+// names, by candidate, what indistinguishable_from names by family: each family listed there has its
+// best candidate listed by name (A's positioning when the verdict is a drift), never the verdict's.
 TEST(Diagnosis, ThePositioningOfTheFirstRotaryAxisIsACandidate) {
   const Fixture f = Make();
   const auto errors = Table2(f.machine, "effects:\n  - rotary_error_motion: {symbol: E_AA, positions_deg: [-90, -60, -30, 0],"
@@ -497,6 +499,17 @@ TEST(Diagnosis, ThePositioningOfTheFirstRotaryAxisIsACandidate) {
     ASSERT_NE(a, d->candidates.end());
     EXPECT_EQ(a->name, "angular positioning error of A, orders 1 to 4") << DiagnosisText(*d);
     EXPECT_TRUE(a->significant) << DiagnosisText(*d);
+    const auto& by_name = d->verdict.indistinguishable_candidates;
+    EXPECT_EQ(std::count(by_name.begin(), by_name.end(), d->verdict.name), 0) << DiagnosisText(*d);
+    for (const std::string& family : d->verdict.indistinguishable_from) {
+      const auto best = std::find_if(d->candidates.begin() + 1, d->candidates.end(),
+                                     [&](const auto& c) { return c.family == family; });
+      ASSERT_NE(best, d->candidates.end()) << family;
+      EXPECT_EQ(std::count(by_name.begin(), by_name.end(), best->name), 1) << family << "\n" << DiagnosisText(*d);
+    }
+    if (d->verdict.family != "rotary_positioning") {
+      EXPECT_EQ(std::count(by_name.begin(), by_name.end(), a->name), 1) << DiagnosisText(*d);
+    }
   }
 }
 

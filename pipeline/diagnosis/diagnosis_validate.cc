@@ -509,10 +509,16 @@ bool Hit(const ValidationTrial& t) {
   return t.verdict == t.true_family;
 }
 
-// Right, or the withheld family (each of a pair) named or said indistinguishable from the verdict.
+// Right, or the withheld family (each of a pair) named or said indistinguishable from the verdict;
+// a withheld positioning error of C only as C's candidate (the verdict's or an indistinguishable one).
 bool HitOrAlias(const ValidationTrial& t) {
   if (Hit(t)) return true;
   if (t.verdict == "none" || t.verdict == "error") return false;
+  if (t.pair_families.empty() && t.true_family == "rotary_positioning") {
+    const auto of_c = [](const std::string& name) { return name.find(" of C,") != std::string::npos; };
+    const auto& c = t.indistinguishable_candidates;
+    return of_c(t.verdict_name) || std::any_of(c.begin(), c.end(), of_c);
+  }
   const auto named = [&](const std::string& f) {
     const auto& v = t.verdict_families;
     const auto& ind = t.indistinguishable_from;
@@ -682,6 +688,7 @@ Status DiagnoseTrial(const testpieces::TestPiece& piece, const kinematics::Machi
     trial->verdict_name = d->verdict.name;
     trial->verdict_families = d->verdict.families;
     trial->indistinguishable_from = d->verdict.indistinguishable_from;
+    trial->indistinguishable_candidates = d->verdict.indistinguishable_candidates;
     trial->shrink_pct = d->verdict.shrink_pct, trial->cv_shrink_pct = d->verdict.cv_shrink_pct;
     const double held_um = d->reference_held_rms_um.value_or(d->rms_um);
     const double after_um = d->rms_um * (1.0 - d->verdict.shrink_pct / 100.0);

@@ -53,6 +53,25 @@ void AddAliases(const VerdictInputs& in, std::size_t v, DiagnosisResult* out) {
   std::sort(ind.begin(), ind.end());
 }
 
+// The candidates, one by one, that explain the gap about as well as the verdict's candidate v:
+// significant with the verdict adding nothing significant beyond them (NameVerdict's test), or
+// reproducing its signature (AddAliases's), in ranking order; not `also`'s family.
+void NameIndistinguishableCandidates(const VerdictInputs& in, const Ranking& ranking, std::size_t v,
+                                     DiagnosisResult* out) {
+  const auto& results = in.scored.results;
+  const auto& bases = in.scored.bases;
+  const Eigen::VectorXd s_v = bases[v].U * (bases[v].U.transpose() * in.gap.r);
+  const double e_v = s_v.squaredNorm();
+  auto& names = out->verdict.indistinguishable_candidates;
+  names.clear();
+  for (auto k : ranking.order) {
+    if (k == v || !results[k].observable || (out->verdict.also && results[k].family == *out->verdict.also)) continue;
+    const bool as_well = results[k].significant && FBeyond(in, v, k).second > in.options.alpha;
+    const bool alias = e_v > 0 && (bases[k].U.transpose() * s_v).squaredNorm() / e_v >= in.options.alias_capture;
+    if (as_well || alias) names.push_back(results[k].name);
+  }
+}
+
 struct RunnerUp {
   std::optional<std::size_t> k;
   double p = 1.0, f = 0.0;
@@ -221,6 +240,7 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
     out->verdict.also.reset();
   const std::size_t lead = SearchPair(in, ranking, v, partner, out);
+  NameIndistinguishableCandidates(in, ranking, lead, out);
   const double n = static_cast<double>(in.gap.r.size());
   // The reference's share along the verdict's directions is fitted.
   const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[lead].U);

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "pipeline/report/diagnosis_json.h"
+
 namespace tpcal::pipeline {
 namespace {
 
@@ -58,6 +60,30 @@ TEST(DiagnosisHtmlBlocks, ScreenListsPatchesAndPointsWithTheirLines) {
   EXPECT_NE(h.find("<td class=\"t\">42</td>"), std::string::npos);
   d.outliers[0].left_out = false;
   EXPECT_NE(ScreenHtml(d).find("kept in (--keep-outliers)"), std::string::npos);
+}
+
+// indistinguishable_candidates by name: the text and the HTML say which of the verdict's own
+// family (another axis) explain the gap about as well; another family's stays in the JSON only
+// (indistinguishable_from names that family); none listed, no line.
+TEST(DiagnosisHtmlBlocks, AnotherAxisOfTheVerdictsFamilyIsNamed) {
+  DiagnosisResult d = Straightness();
+  CandidateResult other = d.candidates.front(), drift = d.candidates.front();
+  other.name = "straightness of Y in X (quadratic) <b>";
+  drift.family = "thermal_drift";
+  drift.name = "linear drift of the table";
+  d.candidates.push_back(other);
+  d.candidates.push_back(drift);
+  d.verdict.indistinguishable_candidates = {drift.name, other.name};
+  EXPECT_EQ(SameFamilyAlternatives(d), std::vector<std::string>{other.name});
+  const std::string text = DiagnosisText(d);
+  EXPECT_NE(text.find("within its family, explained about as well by: straightness of Y in X (quadratic) <b>\n"),
+            std::string::npos) << text;
+  EXPECT_EQ(text.find("by: linear drift"), std::string::npos) << text;
+  const std::string html = DiagnosisHtml(d, "t");
+  EXPECT_NE(html.find("explained about as well by: straightness of Y in X (quadratic) &lt;b&gt;</p>"), std::string::npos);
+  EXPECT_NE(DiagnosisJson(d).find("\"indistinguishable_candidates\""), std::string::npos);
+  d.verdict.indistinguishable_candidates.clear();
+  EXPECT_EQ(DiagnosisText(d).find("within its family"), std::string::npos);
 }
 
 }  // namespace

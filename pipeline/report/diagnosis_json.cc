@@ -116,6 +116,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   v["name"] = r.verdict.name;
   v["shrink_pct"] = r.verdict.shrink_pct;
   v["indistinguishable_from"] = r.verdict.indistinguishable_from;
+  v["indistinguishable_candidates"] = r.verdict.indistinguishable_candidates;
   v["cv_shrink_pct"] = r.verdict.cv_shrink_pct;
   if (r.verdict.also) v["also"] = *r.verdict.also;
   v["families"] = r.verdict.families;
@@ -205,6 +206,8 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + f;
     o += "\n";
   }
+  if (const auto same = SameFamilyAlternatives(r); !same.empty())
+    o += fmt::format("  within its family, explained about as well by: {}\n", fmt::join(same, "; "));
   if (r.verdict.also) o += "  a second effect adds beyond it: " + *r.verdict.also + "\n";
   if (r.pair)
     o += fmt::format("  with {} fitted jointly ({}): shrink {:.1f} % in-sample, {:.1f} % cross-validated ({}); "
@@ -255,6 +258,9 @@ std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + XmlEscape(f);
     o += "</p>\n";
   }
+  if (const auto same = SameFamilyAlternatives(r); !same.empty())
+    o += "<p>Within its family, explained about as well by: " + XmlEscape(fmt::format("{}", fmt::join(same, "; "))) +
+         "</p>\n";
   o += VerdictFamiliesHtml(r.verdict) + BaseShiftHtml(r) + ScreenHtml(r);
   if (r.reference_agreement) o += ReferenceAgreementHtml(*r.reference_agreement);
   o += "<h2>Gap</h2><pre>" + XmlEscape(DiagnosisText(r)) + "</pre>\n";

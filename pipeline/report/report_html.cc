@@ -171,6 +171,11 @@ std::string DiagnosisSection(const RunReport& r) {
     for (const auto& f : v.indistinguishable_from) list += (list.empty() ? "" : ", ") + E(f);
     h += " Indistinguishable on this piece and plan from: " + list + ".";
   }
+  if (const auto same = SameFamilyAlternatives(d); !same.empty()) {
+    std::string list;
+    for (const auto& n : same) list += (list.empty() ? "" : "; ") + E(n);
+    h += " Within its family, explained about as well by: " + list + ".";
+  }
   if (v.also) h += " Also significant beyond the verdict: " + E(*v.also) + ".";
   if (d.pair)
     h += fmt::format(" Fitted together with {} ({}): shrink {}&nbsp;% in sample, {}&nbsp;% cross-validated ({}).",
