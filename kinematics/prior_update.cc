@@ -46,15 +46,21 @@ Result<Eigen::MatrixXd> CovarianceInformation(const Eigen::MatrixXd& cov) {
 // Coefficients the piece or the prior sees, each judged against its own best-seen coefficient
 // (information above 1e-6 of it: u less than 1000x the best's, as Identify's rank tolerance 1e-3).
 // Each on its own scale: a prior far tighter on one coefficient than the piece on any does not hide
-// what the piece sees. The others are left at the prior.
-std::vector<Eigen::Index> SeenCoefficients(const Eigen::MatrixXd& piece_info, const Eigen::MatrixXd& prior_info) {
-  constexpr double kUnseen = 1e-6;
+// what the piece sees. The piece sees a coefficient only where the re-alignment leaves more than
+// 1e-6 of its column's norm (`raw_piece_diag`: the information before the re-alignment is projected
+// out), so rounding is not taken for a signal when the re-alignment absorbs every one. The others
+// are left at the prior.
+std::vector<Eigen::Index> SeenCoefficients(const Eigen::MatrixXd& piece_info, const Eigen::VectorXd& raw_piece_diag,
+                                           const Eigen::MatrixXd& prior_info) {
+  constexpr double kUnseen = 1e-6, kAbsorbed = 1e-12;
   const Eigen::Index n = piece_info.rows();
   std::vector<Eigen::Index> seen;
   if (n == 0) return seen;
   const double piece_best = piece_info.diagonal().maxCoeff(), prior_best = prior_info.diagonal().maxCoeff();
-  for (Eigen::Index k = 0; k < n; ++k)
-    if (piece_info(k, k) > kUnseen * piece_best || prior_info(k, k) > kUnseen * prior_best) seen.push_back(k);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const bool by_piece = piece_info(k, k) > kUnseen * piece_best && piece_info(k, k) > kAbsorbed * raw_piece_diag(k);
+    if (by_piece || prior_info(k, k) > kUnseen * prior_best) seen.push_back(k);
+  }
   return seen;
 }
 
@@ -70,7 +76,8 @@ Result<PriorUpdate> UpdateWithInformation(const MachineModel& model, const Error
   const double w = 1.0 / (sigma_um * sigma_um);
   const Eigen::MatrixXd piece_info = w * J.transpose() * J;
   const Eigen::MatrixXd info = piece_info + prior_info;
-  const std::vector<Eigen::Index> seen = SeenCoefficients(piece_info, prior_info);
+  const Eigen::VectorXd raw_piece_diag = w * lin->J_dev_params.colwise().squaredNorm().transpose();
+  const std::vector<Eigen::Index> seen = SeenCoefficients(piece_info, raw_piece_diag, prior_info);
   const auto q = static_cast<Eigen::Index>(seen.size());
   Eigen::MatrixXd info_seen(q, q);
   Eigen::VectorXd rhs_seen(q);

@@ -58,8 +58,11 @@ Result<InstrumentReference> IrReadIdentified(const LoadedPiece& setup, const std
     out.parameters.push_back(std::move(e));
   }
   const auto n = static_cast<Eigen::Index>(file->parameters.size());
-  if (!file->parameter_covariance.empty())
-    out.parameter_covariance = Eigen::Map<const Eigen::MatrixXd>(file->parameter_covariance.data(), n, n);
+  if (!file->parameter_covariance.empty()) {
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::MatrixXd cov = Eigen::Map<const RowMajor>(file->parameter_covariance.data(), n, n);
+    out.parameter_covariance = 0.5 * (cov + cov.transpose());  // symmetric to 1e-9 as read; exactly here
+  }
   if (!file->errors_yaml.empty()) {
     out.map_entries = file->map_entries;
     out.not_identifiable = file->not_identifiable;

@@ -244,7 +244,9 @@ struct Verdict {
   // The candidates (by name, ranking order) that explain the gap about as well as the verdict's
   // by the same two tests, one by one rather than by family: another axis's candidate of the
   // verdict's own family (A's angular positioning beside C's) is listed here, which
-  // indistinguishable_from, keyed by family, cannot say. `also`'s family is left out.
+  // indistinguishable_from, keyed by family, cannot say. Every candidate passing a test is listed
+  // (of a family in indistinguishable_from, at least the one that put it there; others too);
+  // `also`'s family and larger forms of the verdict's own candidate (which hold it) are left out.
   std::vector<std::string> indistinguishable_candidates;
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict
   // Every family the verdict names, leading first: the verdict's, `also`, and local_defect when

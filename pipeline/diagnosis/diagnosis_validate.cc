@@ -495,6 +495,11 @@ void ExplainedShares(const ValidationBase& vb, const CandidateResult& best, cons
 // Whether the verdict is right: the withheld family; both families of a pair named; for
 // outliers (left out by the screen) none; for an effect outside the catalogue unexplained or the
 // closest catalogue family (not none, and not local_defect: the effect is not confined to a patch).
+// The catalogue's candidate of C's angular positioning (diagnosis_candidates.cc, RotaryAxisSpecs).
+bool IsPositioningOfC(const std::string& candidate_name) {
+  return candidate_name.starts_with("angular positioning error of C,");
+}
+
 bool Hit(const ValidationTrial& t) {
   if (t.true_family == "outliers") return t.verdict == "none";
   if (t.true_family == "pairs") {
@@ -504,21 +509,18 @@ bool Hit(const ValidationTrial& t) {
   }
   if (OutOfCatalogue(t.true_family)) return t.verdict == "unexplained" || IsCatalogueFamily(t.verdict);
   // The withheld positioning error is C's (E_CC): another rotary axis's positioning is not it.
-  if (t.true_family == "rotary_positioning" && t.verdict == t.true_family)
-    return t.verdict_name.find(" of C,") != std::string::npos;
+  if (t.true_family == "rotary_positioning" && t.verdict == t.true_family) return IsPositioningOfC(t.verdict_name);
   return t.verdict == t.true_family;
 }
 
 // Right, or the withheld family (each of a pair) named or said indistinguishable from the verdict;
-// a withheld positioning error of C only as C's candidate (the verdict's or an indistinguishable one).
+// a withheld positioning error of C only as C's candidate (the verdict's, the pair's or an
+// indistinguishable one).
 bool HitOrAlias(const ValidationTrial& t) {
   if (Hit(t)) return true;
   if (t.verdict == "none" || t.verdict == "error") return false;
-  if (t.pair_families.empty() && t.true_family == "rotary_positioning") {
-    const auto of_c = [](const std::string& name) { return name.find(" of C,") != std::string::npos; };
-    const auto& c = t.indistinguishable_candidates;
-    return of_c(t.verdict_name) || std::any_of(c.begin(), c.end(), of_c);
-  }
+  if (t.pair_families.empty() && t.true_family == "rotary_positioning")
+    return std::any_of(t.candidates_named.begin(), t.candidates_named.end(), IsPositioningOfC);
   const auto named = [&](const std::string& f) {
     const auto& v = t.verdict_families;
     const auto& ind = t.indistinguishable_from;
@@ -688,7 +690,9 @@ Status DiagnoseTrial(const testpieces::TestPiece& piece, const kinematics::Machi
     trial->verdict_name = d->verdict.name;
     trial->verdict_families = d->verdict.families;
     trial->indistinguishable_from = d->verdict.indistinguishable_from;
-    trial->indistinguishable_candidates = d->verdict.indistinguishable_candidates;
+    trial->candidates_named = d->verdict.indistinguishable_candidates;
+    trial->candidates_named.push_back(d->verdict.name);
+    if (d->pair) trial->candidates_named.insert(trial->candidates_named.end(), d->pair->names.begin(), d->pair->names.end());
     trial->shrink_pct = d->verdict.shrink_pct, trial->cv_shrink_pct = d->verdict.cv_shrink_pct;
     const double held_um = d->reference_held_rms_um.value_or(d->rms_um);
     const double after_um = d->rms_um * (1.0 - d->verdict.shrink_pct / 100.0);

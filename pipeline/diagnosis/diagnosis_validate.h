@@ -91,7 +91,8 @@ struct ValidationTrial {
   std::string verdict;
   std::string verdict_name;    // the verdict candidate's name (which axis a rotary family's is)
   std::vector<std::string> indistinguishable_from;
-  std::vector<std::string> indistinguishable_candidates;  // by name (which axis)
+  // Every candidate named, by name (which axis): the verdict's, the pair's, the indistinguishable ones.
+  std::vector<std::string> candidates_named;
   double effect_rms_um = 0.0;     // RMS of the visible signature
   // Of the verdict (0 for none): (cv_before^2 - cv_after^2) / cv_effect^2, cv_effect = the same CV
   // figure (cv_method, held-out features) of the noise-free visible signature (diagnosis_validate.cc).

@@ -53,9 +53,20 @@ void AddAliases(const VerdictInputs& in, std::size_t v, DiagnosisResult* out) {
   std::sort(ind.begin(), ind.end());
 }
 
+// Whether candidate k's fitted directions hold all of candidate v's (a larger form of the same
+// effect: a quartic beside a quadratic straightness), to 1e-6 of v's rank.
+bool HoldsAllOf(const ScoredCandidates& scored, std::size_t k, std::size_t v) {
+  const auto& bk = scored.bases[k];
+  const auto& bv = scored.bases[v];
+  if (bv.rank == 0 || bk.rank < bv.rank) return false;
+  return (bk.U.transpose() * bv.U).squaredNorm() >= static_cast<double>(bv.rank) * (1.0 - 1e-6);
+}
+
 // The candidates, one by one, that explain the gap about as well as the verdict's candidate v:
 // significant with the verdict adding nothing significant beyond them (NameVerdict's test), or
-// reproducing its signature (AddAliases's), in ranking order; not `also`'s family.
+// reproducing its signature (AddAliases's), in ranking order; not `also`'s family, nor a larger
+// form of the verdict's own (which passes both tests by holding it). So each family in
+// indistinguishable_from has at least the candidate that put it there.
 void NameIndistinguishableCandidates(const VerdictInputs& in, const Ranking& ranking, std::size_t v,
                                      DiagnosisResult* out) {
   const auto& results = in.scored.results;
@@ -66,6 +77,7 @@ void NameIndistinguishableCandidates(const VerdictInputs& in, const Ranking& ran
   names.clear();
   for (auto k : ranking.order) {
     if (k == v || !results[k].observable || (out->verdict.also && results[k].family == *out->verdict.also)) continue;
+    if (results[k].family == results[v].family && HoldsAllOf(in.scored, k, v)) continue;
     const bool as_well = results[k].significant && FBeyond(in, v, k).second > in.options.alpha;
     const bool alias = e_v > 0 && (bases[k].U.transpose() * s_v).squaredNorm() / e_v >= in.options.alias_capture;
     if (as_well || alias) names.push_back(results[k].name);

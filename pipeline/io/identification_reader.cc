@@ -1,5 +1,6 @@
 #include "pipeline/io/identification_reader.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -160,7 +161,8 @@ Status ReadMapFields(const json& doc, const std::string& source, IdentificationF
   return Status::Ok();
 }
 
-// "parameter_covariance" (optional): n rows of n finite numbers for the n parameters, symmetric.
+// "parameter_covariance" (optional): n rows of n finite numbers for the n parameters, symmetric
+// and positive semi-definite (eigenvalues above -1e-9 of the largest, as the prior update asks).
 Status ReadParameterCovariance(const json& doc, const std::string& source, IdentificationFile* out) {
   auto it = doc.find("parameter_covariance");
   if (it == doc.end() || it->is_null()) return Status::Ok();
@@ -186,6 +188,14 @@ Status ReadParameterCovariance(const json& doc, const std::string& source, Ident
       if (std::abs(cov[i * n + k] - cov[k * n + i]) > 1e-9 * largest)
         return IdParseError(source, fmt::format("\"parameter_covariance\": expected a symmetric matrix (rows {} and {} "
                                                 "differ)", k, i));
+  if (n > 0) {
+    const auto m = static_cast<Eigen::Index>(n);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::Map<const Eigen::MatrixXd>(cov.data(), m, m),
+                                                             Eigen::EigenvaluesOnly);
+    if (eig.eigenvalues().minCoeff() < -1e-9 * std::max(0.0, eig.eigenvalues().maxCoeff()))
+      return IdParseError(source, fmt::format("\"parameter_covariance\": expected a positive semi-definite matrix "
+                                              "(an eigenvalue is {:.3g})", eig.eigenvalues().minCoeff()));
+  }
   out->parameter_covariance = std::move(cov);
   return Status::Ok();
 }

@@ -52,7 +52,8 @@ struct IdentificationFile {
 // a non-empty array of strings, or not the same (names, or absence) on every axis with errors, or
 // an entry of such an axis without a string "coefficient" or whose "response" is not one finite
 // number per name — located as axes[i] or axes[i].errors[k]; a "parameter_covariance" that is
-// not one row of finite numbers per parameter, each as long, symmetric to 1e-9 of its largest.
+// not one row of finite numbers per parameter, each as long, symmetric to 1e-9 of its largest,
+// positive semi-definite (no eigenvalue below -1e-9 of the largest).
 Result<IdentificationFile> ParseIdentificationJson(std::string_view text, const std::string& source);
 // The file at `path`; also kIoError when it cannot be read.
 Result<IdentificationFile> ReadIdentificationJson(const std::string& path);

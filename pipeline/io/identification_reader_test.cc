@@ -57,7 +57,8 @@ TEST(IdentificationReader, AMalformedMapResponseFailsWhereItIs) {
 }
 
 // A datum ball's parameter file with its covariance (two parameters, 2 x 2): read row-major;
-// absent or null gives none; a wrong size, a non-number or an asymmetric matrix fails naming the key.
+// absent or null gives none; a wrong size, a non-number, an asymmetric or an indefinite matrix (a
+// correlation beyond 1: eigenvalue 0.125 - 0.501 < 0) fails naming the key.
 constexpr const char* kIrtBall = R"({"schema": "tpcal.identification/1", "instrument": "datum_ball", "machine": "ac_table",
  "parameters": [{"name": "E_X0C", "unit": "um", "identifiable": true, "value": 1.5, "u": 0.3},
                 {"name": "E_A0C", "unit": "urad", "identifiable": true, "value": -2, "u": 0.4}],
@@ -78,6 +79,7 @@ TEST(IdentificationReader, ReadsAParameterCovariance) {
       {"[[0.09, 0.06], [0.06]]", "expected 2 rows of 2 finite numbers (one per parameter): row 1"},
       {"[[0.09, \"x\"], [0.06, 0.16]]", "row 0"},
       {"[[0.09, 0.06], [0.07, 0.16]]", "expected a symmetric matrix (rows 0 and 1 differ)"},
+      {"[[0.09, 0.5], [0.5, 0.16]]", "expected a positive semi-definite matrix"},
       {"{}", "expected 2 rows of 2 finite numbers"},
   };
   for (const Case& c : cases) {

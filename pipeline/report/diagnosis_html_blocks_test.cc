@@ -80,7 +80,8 @@ TEST(DiagnosisHtmlBlocks, AnotherAxisOfTheVerdictsFamilyIsNamed) {
             std::string::npos) << text;
   EXPECT_EQ(text.find("by: linear drift"), std::string::npos) << text;
   const std::string html = DiagnosisHtml(d, "t");
-  EXPECT_NE(html.find("explained about as well by: straightness of Y in X (quadratic) &lt;b&gt;</p>"), std::string::npos);
+  EXPECT_NE(html.find("explained about as well by: straightness of Y in X (quadratic) &lt;b&gt;</p>"), std::string::npos)
+      << html;
   EXPECT_NE(DiagnosisJson(d).find("\"indistinguishable_candidates\""), std::string::npos);
   d.verdict.indistinguishable_candidates.clear();
   EXPECT_EQ(DiagnosisText(d).find("within its family"), std::string::npos);
