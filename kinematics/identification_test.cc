@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -455,34 +456,52 @@ TEST(Identification, BadInputsAreStatuses) {
   EXPECT_EQ(blind.status().code(), StatusCode::kNotIdentifiable) << blind.status().ToString();
 }
 
+// The noise-free box of the PriorUpdate tests: the squareness set as truth, measured at sigma 1
+// um, and a prior shifted from the truth by `shift_urad` per coefficient (display units).
+class PriorUpdateBox : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    names = IsoLocationSet(m);
+    ErrorState base(m);
+    ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
+    ASSERT_EQ(names.size(), 3u);
+    obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+    ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
+  }
+  ErrorState Shifted(const std::array<double, 3>& shift_urad) const {
+    ErrorState prior = truth;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int c = active.coefficients[k];
+      prior.set_coefficient(c, truth.coefficient(c) + shift_urad[k] / truth.coefficient_info(c).display_per_internal);
+    }
+    return prior;
+  }
+  double Value(const ErrorState& e, std::size_t k) const {
+    const int c = active.coefficients[k];
+    return e.coefficient(c) * e.coefficient_info(c).display_per_internal;
+  }
+  const MachineModel m = IdentifyTestMachine();
+  std::vector<std::string> names;
+  ErrorState truth{m};
+  ActiveSet active;
+  std::vector<Observation> obs;
+};
+
 // UpdateWithinPrior (kinematics/prior_update.h) on the noise-free box. Truth: the squareness set
 // above; the prior: the truth + 20 urad on each. A prior of u = 1e-3 urad is kept (the piece's
 // information, ~1 / (0.1 urad)^2 at sigma 1 um, moves it by about (1e-3 / 0.1)^2 x 20 = 2e-3
 // urad); one of u = 1e6 urad gives the piece's own fit, the truth, to the linearisation's
 // second order (20e-6^2 x 100 mm = 4e-5 um: below 1e-3 urad); a coefficient without prior
 // (u = 0) likewise. A prior u equal to the piece's marginal u (the others free) halves the 20 urad.
-TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalfway) {
-  const MachineModel m = IdentifyTestMachine();
-  const std::vector<std::string> names = IsoLocationSet(m);
-  ErrorState base(m), truth(m);
-  ActiveSet active;
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
-  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
-  ErrorState prior = truth;
-  for (int c : active.coefficients)
-    prior.set_coefficient(c, truth.coefficient(c) + 20.0 / truth.coefficient_info(c).display_per_internal);
-  auto value = [&](const ErrorState& e, std::size_t k) {
-    const int c = active.coefficients[k];
-    return e.coefficient(c) * e.coefficient_info(c).display_per_internal;
-  };
+TEST_F(PriorUpdateBox, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalfway) {
+  const ErrorState prior = Shifted({20.0, 20.0, 20.0});
   auto tight = UpdateWithinPrior(m, prior, active, std::vector<double>{1e-3, 1e-3, 1e-3}, obs, 1.0);
   ASSERT_TRUE(tight.ok()) << tight.status().ToString();
   auto loose = UpdateWithinPrior(m, prior, active, std::vector<double>{1e6, 0.0, 1e6}, obs, 1.0);
   ASSERT_TRUE(loose.ok()) << loose.status().ToString();
   for (std::size_t k = 0; k < names.size(); ++k) {
-    EXPECT_NEAR(value(tight->posterior, k), kIdentifyTestSquareness_urad[k] + 20.0, 0.01) << names[k];
-    EXPECT_NEAR(value(loose->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
+    EXPECT_NEAR(Value(tight->posterior, k), kIdentifyTestSquareness_urad[k] + 20.0, 0.01) << names[k];
+    EXPECT_NEAR(Value(loose->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
     EXPECT_LT(tight->posterior_u[k], 1e-3) << names[k];
   }
   // Equal weights: the piece's u of each coefficient (sigma 1 um) as the prior's u.
@@ -490,7 +509,7 @@ TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalf
   ASSERT_GT(piece_u[1], 0.0);
   auto half = UpdateWithinPrior(m, prior, active, std::vector<double>{1e6, piece_u[1], 1e6}, obs, 1.0);
   ASSERT_TRUE(half.ok()) << half.status().ToString();
-  EXPECT_NEAR(value(half->posterior, 1), kIdentifyTestSquareness_urad[1] + 10.0, 0.01);
+  EXPECT_NEAR(Value(half->posterior, 1), kIdentifyTestSquareness_urad[1] + 10.0, 0.01);
   EXPECT_FALSE(UpdateWithinPrior(m, prior, active, std::vector<double>{1.0}, obs, 1.0).ok());
   EXPECT_FALSE(UpdateWithinPrior(m, prior, active, piece_u, obs, 0.0).ok());
 }
@@ -500,28 +519,11 @@ TEST(PriorUpdate, TightPriorIsKeptLoosePriorGivesThePieceAndEqualWeightsMeetHalf
 // which start 20 urad off. What the piece sees is judged against the piece's own information, not
 // the prior's: the other two come from the piece (the truth to 1e-3 urad, as above) with a u > 0,
 // the first stays at the truth.
-TEST(PriorUpdate, APriorTightOnOneCoefficientDoesNotHideWhatThePieceSees) {
-  const MachineModel m = IdentifyTestMachine();
-  const std::vector<std::string> names = IsoLocationSet(m);
-  ErrorState base(m), truth(m);
-  ActiveSet active;
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
-  ASSERT_EQ(names.size(), 3u);
-  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
-  const double shift_urad[3] = {0.0, 20.0, -20.0};
-  ErrorState prior = truth;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const int c = active.coefficients[k];
-    prior.set_coefficient(c, truth.coefficient(c) + shift_urad[k] / truth.coefficient_info(c).display_per_internal);
-  }
+TEST_F(PriorUpdateBox, APriorTightOnOneCoefficientDoesNotHideWhatThePieceSees) {
+  const ErrorState prior = Shifted({0.0, 20.0, -20.0});
   auto up = UpdateWithinPrior(m, prior, active, std::vector<double>{1e-5, 0.0, 0.0}, obs, 1.0);
   ASSERT_TRUE(up.ok()) << up.status().ToString();
-  for (std::size_t k = 0; k < 3; ++k) {
-    const int c = active.coefficients[k];
-    const double value = up->posterior.coefficient(c) * up->posterior.coefficient_info(c).display_per_internal;
-    EXPECT_NEAR(value, kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
-  }
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(Value(up->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
   EXPECT_GT(up->posterior_u[1], 0.0);
   EXPECT_GT(up->posterior_u[2], 0.0);
 }
@@ -533,34 +535,17 @@ TEST(PriorUpdate, APriorTightOnOneCoefficientDoesNotHideWhatThePieceSees) {
 // truth, to the linearisation's second order (1e-3 urad, as above). With the same covariance's
 // diagonal as u (correlations dropped) the prior pulls the first toward its wrong value (measured
 // more than 5 urad off). A covariance of the wrong size, or not symmetric, is an error.
-TEST(PriorUpdate, ACovarianceKnowsOnlyTheCombinationsItSpans) {
-  const MachineModel m = IdentifyTestMachine();
-  const std::vector<std::string> names = IsoLocationSet(m);
-  ErrorState base(m), truth(m);
-  ActiveSet active;
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
-  ASSERT_EQ(names.size(), 3u);
-  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
-  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.0, nullptr, Rigid3::Identity(), &obs));
-  const double shift_urad[3] = {20.0, 20.0, -20.0};
-  ErrorState prior = truth;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const int c = active.coefficients[k];
-    prior.set_coefficient(c, truth.coefficient(c) + shift_urad[k] / truth.coefficient_info(c).display_per_internal);
-  }
-  auto value = [&](const ErrorState& e, std::size_t k) {
-    const int c = active.coefficients[k];
-    return e.coefficient(c) * e.coefficient_info(c).display_per_internal;
-  };
+TEST_F(PriorUpdateBox, ACovarianceKnowsOnlyTheCombinationsItSpans) {
+  const ErrorState prior = Shifted({20.0, 20.0, -20.0});
   const Eigen::Vector3d sum = Eigen::Vector3d(1.0, 0.0, 1.0) / std::sqrt(2.0);
   const Eigen::MatrixXd cov = 0.01 * sum * sum.transpose();
   auto up = UpdateWithinPriorCovariance(m, prior, active, cov, obs, 1.0);
   ASSERT_TRUE(up.ok()) << up.status().ToString();
-  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(value(up->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(Value(up->posterior, k), kIdentifyTestSquareness_urad[k], 1e-3) << names[k];
   const std::vector<double> diag_u = {std::sqrt(cov(0, 0)), 0.0, std::sqrt(cov(2, 2))};
   auto per_parameter = UpdateWithinPrior(m, prior, active, diag_u, obs, 1.0);
   ASSERT_TRUE(per_parameter.ok()) << per_parameter.status().ToString();
-  EXPECT_GT(std::abs(value(per_parameter->posterior, 0) - kIdentifyTestSquareness_urad[0]), 5.0);
+  EXPECT_GT(std::abs(Value(per_parameter->posterior, 0) - kIdentifyTestSquareness_urad[0]), 5.0);
   EXPECT_FALSE(UpdateWithinPriorCovariance(m, prior, active, Eigen::MatrixXd::Identity(2, 2), obs, 1.0).ok());
   Eigen::MatrixXd skew = Eigen::MatrixXd::Identity(3, 3);
   skew(0, 1) = 0.5;
