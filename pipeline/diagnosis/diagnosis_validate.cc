@@ -492,14 +492,14 @@ void ExplainedShares(const ValidationBase& vb, const CandidateResult& best, cons
                           cv_effect_ms;
 }
 
-// Whether the verdict is right: the withheld family; both families of a pair named; for
-// outliers (left out by the screen) none; for an effect outside the catalogue unexplained or the
-// closest catalogue family (not none, and not local_defect: the effect is not confined to a patch).
 // The catalogue's candidate of C's angular positioning (diagnosis_candidates.cc, RotaryAxisSpecs).
 bool IsPositioningOfC(const std::string& candidate_name) {
   return candidate_name.starts_with("angular positioning error of C,");
 }
 
+// Whether the verdict is right: the withheld family; both families of a pair named; for
+// outliers (left out by the screen) none; for an effect outside the catalogue unexplained or the
+// closest catalogue family (not none, and not local_defect: the effect is not confined to a patch).
 bool Hit(const ValidationTrial& t) {
   if (t.true_family == "outliers") return t.verdict == "none";
   if (t.true_family == "pairs") {
