@@ -54,6 +54,7 @@ std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, boo
           {"alpha", fmt::format("{}", r.alpha)},
           {"keep_outliers", r.keep_outliers ? "true" : "false"}};
   if (!r.reference_setup.empty()) inputs["reference_setup"] = r.reference_setup;
+  if (r.reference_probe_radius_mm) inputs["reference_probe_radius_mm"] = fmt::format("{}", *r.reference_probe_radius_mm);
   return inputs;
 }
 
@@ -86,7 +87,8 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
                                        {.path = r.reference_path,
                                         .instrument = r.reference_instrument,
                                         .setup_path = r.reference_setup,
-                                        .machine_path = r.machine_path},
+                                        .machine_path = r.machine_path,
+                                        .probe_radius_mm = r.reference_probe_radius_mm},
                                        options);
     if (!d.ok()) return d.status();
     return DiagnoseStageResult{std::move(*d), DiagnosisInputs(r, false)};

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "core/status.h"
@@ -32,6 +33,7 @@ struct DiagnoseRequest {
   // artifacts, optional; ballbar: installations, required).
   std::string reference_instrument{};
   std::string reference_setup{};
+  std::optional<double> reference_probe_radius_mm{};  // probe_artifacts: its stylus radius (default 3 mm)
   double noise_um = 0.0;              // known CMM noise sigma; 0 = estimated
   double alpha = 0.01;                // family-wise false-alarm probability of the verdict
   bool keep_outliers = false;         // true: flagged points stay in (DiagnosisOptions::screen_outliers)

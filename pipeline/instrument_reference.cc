@@ -98,6 +98,7 @@ void IrSetMapCovariance(const kinematics::ErrorMaps& maps, InstrumentReference* 
 Result<InstrumentReference> IrProbeArtifacts(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
   ProbeArtifactsRequest request;
   request.path = r.path, request.artifacts_path = r.setup_path, request.machine_path = r.machine_path;
+  request.probe_radius_mm = r.probe_radius_mm.value_or(request.probe_radius_mm);
   auto report = RunProbeArtifactsStage(request);
   if (!report.ok()) return report.status();
   InstrumentReference out;
@@ -147,6 +148,11 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
 }
 
 Result<InstrumentReference> IrIdentify(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
+  if (r.probe_radius_mm && (IsIdentificationReference(r.path) || r.instrument != "probe_artifacts"))
+    return Status(StatusCode::kInvalidArgument,
+                  "a probe radius is for a probing test's raw file (--reference-instrument probe_artifacts; an "
+                  "identification JSON was identified with its own)",
+                  r.path);
   if (IsIdentificationReference(r.path)) return IrReadIdentified(setup, r.path);
   if (!IsReferenceInstrument(r.instrument))
     return Status(StatusCode::kInvalidArgument,

@@ -55,6 +55,7 @@ struct InstrumentReferenceRequest {
   // its installations (tpcal.ballbar_setup/1, required); datum_ball: must be "".
   std::string setup_path;
   std::string machine_path;  // the piece's machine file ("" = the nominal machine of its type)
+  std::optional<double> probe_radius_mm{};  // probe_artifacts: its stylus ball radius (default 3 mm); others: unset
 };
 
 // The instrument's result, on the piece's machine.

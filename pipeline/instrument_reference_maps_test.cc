@@ -172,6 +172,36 @@ TEST(InstrumentReferenceMaps, OneDustHitIsListedAndRaisesNoAlarm) {
   EXPECT_EQ(d->outliers.front().point_index, 100u);
 }
 
+// The probing test's stylus radius reaches its identification as a reference: touches of a
+// 10 mm stylus (squareness 150, -120, 100 urad; contacts written to 0.1 um), identified with
+// 10 mm, give E_C(0X)Y to within its u's 3 sigma; with the default 3 mm it moves by 1.75 urad
+// (ProbeArtifactsStage.TheStylusRadiusPlacesTheSquarenessColumns), beyond 1 urad here.
+TEST(InstrumentReferenceMaps, TheProbingTestsStylusRadiusReachesItsIdentification) {
+  const std::string errors = std::string(kMapsLocation) + "E_C(0X)Y_urad: 150\nE_B(0X)Z_urad: -120\nE_A(0Y)Z_urad: 100\n";
+  ProbeArtifactsSimRequest request;
+  request.plan.c_step_deg = 15.0;
+  request.touch.probe_radius_mm = 10.0;
+  auto sim = SimulateProbeArtifacts(test_support::AcTable(), MapsErrors(errors), kinematics::Seed000Artifacts(), request);
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  const auto path = (MapsTestDir() / "probepts_stylus10.csv").string();
+  std::ofstream(path) << sim->csv;
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  InstrumentReferenceRequest r{.path = path, .instrument = "probe_artifacts", .setup_path = "", .machine_path = ""};
+  auto plain = IdentifyInstrumentReference(setup, r);
+  r.probe_radius_mm = 10.0;
+  auto stylus = IdentifyInstrumentReference(setup, r);
+  ASSERT_TRUE(plain.ok()) << plain.status().ToString();
+  ASSERT_TRUE(stylus.ok()) << stylus.status().ToString();
+  auto cx = [](const InstrumentReference& ref) {
+    for (const auto& p : ref.parameters)
+      if (p.name == "E_C(0X)Y") return p;
+    return kinematics::ParameterEstimate{};
+  };
+  ASSERT_TRUE(cx(*stylus).identifiable);
+  EXPECT_LT(std::abs(cx(*stylus).value - 150.0), 3.0 * cx(*stylus).u);
+  EXPECT_GT(std::abs(cx(*plain).value - cx(*stylus).value), 1.0);
+}
+
 TEST(InstrumentReferenceMaps, BadReferencesAreNamed) {
   const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
   auto unknown = IdentifyInstrumentReference(setup, {.path = "x.csv", .instrument = "laser", .setup_path = "", .machine_path = ""});

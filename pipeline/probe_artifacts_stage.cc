@@ -1,6 +1,9 @@
 #include "pipeline/probe_artifacts_stage.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 
 #include "core/units.h"
 #include "kinematics/artifacts_yaml.h"
@@ -86,6 +89,9 @@ Result<std::string> ProbeErrorsYaml(const kinematics::MachineModel& m, const kin
 }  // namespace
 
 Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest& r) {
+  if (!std::isfinite(r.probe_radius_mm) || !(r.probe_radius_mm > 0.0))
+    return Status(StatusCode::kInvalidArgument,
+                  fmt::format("probe radius {} mm: expected a stylus ball radius > 0 mm", r.probe_radius_mm));
   auto file = ReadProbePoints(r.path);
   if (!file.ok()) return file.status();
   auto set = r.artifacts_path.empty() ? Result<kinematics::ArtifactSet>(kinematics::Seed000Artifacts())
@@ -98,6 +104,7 @@ Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest&
   kinematics::TablePoseOptions options;
   options.reference_a_deg = r.reference_a_deg;
   options.reference_c_deg = r.reference_c_deg;
+  options.probe_radius_mm = r.probe_radius_mm;
   auto result = kinematics::IdentifyProbeArtifacts(*machine, *set, *touches, options);
   if (!result.ok()) {
     Status s = result.status();
@@ -108,6 +115,7 @@ Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest&
   report.artifacts_source = r.artifacts_path;
   report.machine = kinematics::MachineTypeName(machine->type);
   report.artifacts = *set;
+  report.probe_radius_mm = r.probe_radius_mm;
   for (const auto& t : *touches) report.lines.push_back(t.line);
   auto yaml = ProbeErrorsYaml(*machine, report.result);
   if (!yaml.ok()) return yaml.status();

@@ -9,8 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "core/units.h"
 #include "kinematics/errors_yaml.h"
@@ -41,15 +44,16 @@ kinematics::ErrorState PaStageTruth(const kinematics::MachineModel& m) {
   return *e;
 }
 
-// The plan's touches simulated under `truth`, as a probed-point file.
-std::string PaStageFile(const kinematics::MachineModel& m, const kinematics::ErrorState& truth) {
+// The plan's touches simulated under `truth` with `touch`'s stylus, as a probed-point file.
+std::string PaStageFile(const kinematics::MachineModel& m, const kinematics::ErrorState& truth,
+                        const kinematics::TouchOptions& touch = {}) {
   auto plan = testpieces::MakeProbeArtifactsPlan(m, kinematics::Seed000Artifacts());
   EXPECT_TRUE(plan.ok());
   ProbePointFile file;
   file.rotary_axes = {'A', 'C'};
   for (const testpieces::PlannedTouch& t : plan->touches) {
     const kinematics::FaceGeometry g = kinematics::FaceOf(plan->artifacts.boxes[t.artifact], t.face);
-    auto c = kinematics::SimulateTouch(m, truth, t.rotary, g, t.target_part_mm, kinematics::TouchOptions{});
+    auto c = kinematics::SimulateTouch(m, truth, t.rotary, g, t.target_part_mm, touch);
     EXPECT_TRUE(c.ok());
     ProbePointRow row;
     row.rotary_deg = {{'A', RadToDeg(t.rotary.a_rad)}, {'C', RadToDeg(t.rotary.c_rad)}};
@@ -100,6 +104,43 @@ TEST(ProbeArtifactsStage, TheWrittenMapsReproduceTheIdentifiedPoses) {
     for (int c = 0; c < 6; ++c) EXPECT_NEAR(again(c), p.value(c), 2e-3) << p.a_deg << " " << p.c_deg << " " << c;
   }
   EXPECT_NE(report->errors_yaml.find("zero-mean"), std::string::npos);
+}
+
+// The stylus radius places the squareness's columns (a touch's linear command is its contact
+// minus radius x approach). Truth: location errors of the table above plus squareness of 150, -120 and 100 urad,
+// touched noise-free with a 10 mm stylus. Taken as 10 mm the squareness comes back to 0.05 urad
+// (second order: (150 urad)^2 x 300 mm = 7e-3 um over lever arms of 100 mm or more); taken as
+// the default 3 mm, the 7 mm error moves every command by 7 mm along its approach (a shear of
+// 150 urad there is 1 um), and the fit leaves it in the squareness: 1.75 urad on E_C(0X)Y
+// (measured; bound 0.5 urad on the worst of the three).
+TEST(ProbeArtifactsStage, TheStylusRadiusPlacesTheSquarenessColumns) {
+  const kinematics::MachineModel m = PaStageMachine();
+  auto sq = kinematics::ParseErrorState(
+      "E_X0C_um: 10\nE_B0A_urad: -20\nE_Y0A_um: 6\nE_C(0X)Y_urad: 150\nE_B(0X)Z_urad: -120\nE_A(0Y)Z_urad: 100\n",
+      "truth.yaml", m);
+  ASSERT_TRUE(sq.ok()) << sq.status().ToString();
+  const std::map<std::string, double> expected = {{"E_C(0X)Y", 150.0}, {"E_B(0X)Z", -120.0}, {"E_A(0Y)Z", 100.0}};
+  kinematics::TouchOptions stylus;
+  stylus.probe_radius_mm = 10.0;
+  const std::string path = PaStageWrite("stylus10.csv", PaStageFile(m, *sq, stylus));
+  ProbeArtifactsRequest right = PaStageRequest(path), wrong = PaStageRequest(path);
+  right.probe_radius_mm = 10.0;
+  auto good = RunProbeArtifactsStage(right), bad = RunProbeArtifactsStage(wrong);
+  ASSERT_TRUE(good.ok()) << good.status().ToString();
+  ASSERT_TRUE(bad.ok()) << bad.status().ToString();
+  double worst_wrong = 0.0;
+  for (std::size_t k = 0; k < good->result.poses.linear_errors.size(); ++k) {
+    const auto& e = good->result.poses.linear_errors[k];
+    ASSERT_TRUE(e.identifiable) << e.name;
+    EXPECT_NEAR(e.value, expected.at(e.name), 0.05) << e.name;
+    worst_wrong = std::max(worst_wrong, std::abs(bad->result.poses.linear_errors[k].value - expected.at(e.name)));
+  }
+  EXPECT_GT(worst_wrong, 0.5);
+  EXPECT_NE(ProbeArtifactsText(*good).find("stylus radius 10 mm"), std::string::npos);
+  right.probe_radius_mm = 0.0;
+  auto refused = RunProbeArtifactsStage(right);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("probe radius 0 mm"), std::string::npos) << refused.status().ToString();
 }
 
 TEST(ProbeArtifactsStage, UnknownArtifactOrFaceNamesItsLine) {

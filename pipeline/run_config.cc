@@ -65,8 +65,9 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
   return value;
 }
 
-// reference: {instrument: NAME, file: PATH, setup: PATH}: instrument (default datum_ball) and file;
-// setup for probe_artifacts (optional) and ballbar; paths relative to the YAML's directory.
+// reference: {instrument: NAME, file: PATH, setup: PATH, probe_radius_mm: R}: instrument (default
+// datum_ball) and file; setup for probe_artifacts (optional) and ballbar; probe_radius_mm for
+// probe_artifacts (> 0; default 3); paths relative to the YAML's directory.
 Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, PipelineConfig* c) {
   if (!v.IsMap())
     return ParseErrorAt(source, v, "'reference': expected a map {instrument: datum_ball, file: PATH, setup: PATH}");
@@ -74,9 +75,17 @@ Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, Pipel
   bool have_file = false;
   for (const auto& r : v) {
     const std::string k = r.first.as<std::string>();
-    if (k != "instrument" && k != "file" && k != "setup")
+    if (k != "instrument" && k != "file" && k != "setup" && k != "probe_radius_mm")
       return ParseErrorAt(source, r.first,
-                          "unknown key 'reference." + EchoInput(k) + "' (expected instrument, file, setup)");
+                          "unknown key 'reference." + EchoInput(k) + "' (expected instrument, file, setup, probe_radius_mm)");
+    if (k == "probe_radius_mm") {
+      auto d = As<double>(source, r.second, "reference.probe_radius_mm", "a stylus radius in mm > 0");
+      if (!d.ok()) return d.status();
+      if (!std::isfinite(*d) || !(*d > 0.0))
+        return ParseErrorAt(source, r.second, "'reference.probe_radius_mm': expected a stylus radius in mm > 0");
+      c->reference_probe_radius_mm = *d;
+      continue;
+    }
     auto s = As<std::string>(source, r.second, k, k == "instrument" ? kReferenceInstruments : "a path");
     if (!s.ok()) return s.status();
     if (k == "instrument" && !IsReferenceInstrument(*s))
@@ -124,6 +133,10 @@ Status PipelineConfig::Validate() const {
     return Status(StatusCode::kInvalidArgument,
                   "'reference': setup is for probe_artifacts (its artifacts) or ballbar (its installations), not '" +
                       EchoInput(reference_instrument) + "'", source);
+  if (reference_probe_radius_mm && reference_instrument != "probe_artifacts")
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': probe_radius_mm is for probe_artifacts (its stylus), not '" +
+                      EchoInput(reference_instrument) + "'", source);
   if (reference_instrument == "ballbar" && reference_setup.empty())
     return Status(StatusCode::kInvalidArgument,
                   "'reference': instrument ballbar needs its set-up (reference.setup / --reference-setup S.yaml, "
@@ -152,6 +165,7 @@ Result<PipelineConfig> ApplyPipelineOverrides(PipelineConfig c, const PipelineOv
   if (!o.reference_file.empty()) c.reference_file = o.reference_file;
   if (!o.reference_instrument.empty()) c.reference_instrument = o.reference_instrument;
   if (!o.reference_setup.empty()) c.reference_setup = o.reference_setup;
+  if (o.reference_probe_radius_mm) c.reference_probe_radius_mm = o.reference_probe_radius_mm;
   if (!o.out.empty()) c.out = o.out;
   if (!o.anchor_feature.empty()) {
     c.anchor_feature = o.anchor_feature;
@@ -357,6 +371,8 @@ std::string FormatPipelineConfig(const PipelineConfig& c) {
     e << YAML::Key << "instrument" << YAML::Value << c.reference_instrument;
     e << YAML::Key << "file" << YAML::Value << c.reference_file;
     if (!c.reference_setup.empty()) e << YAML::Key << "setup" << YAML::Value << c.reference_setup;
+    if (c.reference_probe_radius_mm)
+      e << YAML::Key << "probe_radius_mm" << YAML::Value << *c.reference_probe_radius_mm;
     e << YAML::EndMap;
   }
   e << YAML::Key << "raw_scan" << YAML::Value << YAML::BeginMap;

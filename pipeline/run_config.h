@@ -59,12 +59,14 @@ struct PipelineConfig {
   std::string truth;        // "" = none
   // An instrument test of the same machine the diagnosis is made against
   // (pipeline/instrument_reference.h); "" = none, both set or neither. YAML reference:
-  // {instrument: datum_ball, file: PATH, setup: PATH}; `tpcal run --reference PATH
-  // --reference-instrument NAME [--reference-setup S.yaml]`. reference_setup: probe_artifacts'
-  // artifacts (tpcal.artifacts/1, "" = seed 000's), ballbar's installations (required).
+  // {instrument: datum_ball, file: PATH, setup: PATH, probe_radius_mm: R}; `tpcal run --reference PATH
+  // --reference-instrument NAME [--reference-setup S.yaml] [--reference-probe-radius-mm R]`.
+  // reference_setup: probe_artifacts' artifacts (tpcal.artifacts/1, "" = seed 000's), ballbar's
+  // installations (required); reference_probe_radius_mm: probe_artifacts' stylus (unset = 3 mm).
   std::string reference_instrument;
   std::string reference_file;
   std::string reference_setup;
+  std::optional<double> reference_probe_radius_mm;
   // Raw scans of a symmetric piece: the labelling placing `anchor_feature` nearest
   // `anchor_near_mm` (scan frame, mm) is chosen (raw_scan_labeling.h). YAML:
   // raw_scan: {anchor_feature: H1, anchor_near_mm: [x, y, z]}; `tpcal run --anchor H1@x,y,z` overrides it.
@@ -98,6 +100,7 @@ struct PipelineOverrides {
   std::string reference_file{};        // non-empty: replaces the reference's file
   std::string reference_instrument{};  // non-empty: replaces the reference's instrument
   std::string reference_setup{};       // non-empty: replaces the reference's set-up
+  std::optional<double> reference_probe_radius_mm{};  // set: replaces the reference's stylus radius
   std::string out{};
   std::string anchor_feature{};  // non-empty: replaces raw_scan's anchor_feature and anchor_near_mm
   std::optional<Eigen::Vector3d> anchor_near_mm{};

@@ -164,5 +164,35 @@ TEST(PipelineOverrides, ReferenceSetupOfTheMapInstruments) {
   EXPECT_TRUE(probe->Validate().ok()) << probe->Validate().ToString();
 }
 
+// A probing test's stylus radius: read, written back, replaced by the flag; > 0 mm at its line;
+// refused for another instrument.
+TEST(PipelineOverrides, ReferenceProbeRadiusOfAProbingTest) {
+  auto file = ParsePipelineConfig(
+      "points: a.csv\nout: o\nreference: {instrument: probe_artifacts, file: p.csv, probe_radius_mm: 1.5}\n", "/d/p.yaml");
+  ASSERT_TRUE(file.ok()) << file.status().ToString();
+  ASSERT_TRUE(file->reference_probe_radius_mm.has_value());
+  EXPECT_EQ(*file->reference_probe_radius_mm, 1.5);
+  EXPECT_TRUE(file->Validate().ok()) << file->Validate().ToString();
+  EXPECT_NE(FormatPipelineConfig(*file).find("file: /d/p.csv\n  probe_radius_mm: 1.5\n"), std::string::npos)
+      << FormatPipelineConfig(*file);
+  PipelineOverrides o;
+  o.reference_probe_radius_mm = 2.5;
+  auto c = ApplyPipelineOverrides(*file, o, false);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->reference_probe_radius_mm.value_or(0.0), 2.5);
+  for (const char* bad : {"0", "-1", ".nan", "three"}) {
+    auto r = ParsePipelineConfig(std::string("points: a.csv\nreference:\n  instrument: probe_artifacts\n  file: p.csv\n"
+                                             "  probe_radius_mm: ") + bad + "\n",
+                                 "/d/p.yaml");
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_NE(r.status().ToString().find("/d/p.yaml:5: 'reference.probe_radius_mm': expected a stylus radius in mm > 0"),
+              std::string::npos)
+        << r.status().ToString();
+  }
+  auto ball = ParsePipelineConfig("points: a.csv\nreference: {file: b.csv, probe_radius_mm: 3}\n", "/d/p.yaml");
+  ASSERT_TRUE(ball.ok());
+  EXPECT_NE(ball->Validate().ToString().find("probe_radius_mm is for probe_artifacts"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tpcal::pipeline

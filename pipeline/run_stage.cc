@@ -51,7 +51,8 @@ Result<std::optional<InstrumentReference>> RunReference(const PipelineConfig& co
   auto ref = IdentifyInstrumentReference(setup, {.path = config.reference_file,
                                                  .instrument = config.reference_instrument,
                                                  .setup_path = config.reference_setup,
-                                                 .machine_path = config.machine});
+                                                 .machine_path = config.machine,
+                                                 .probe_radius_mm = config.reference_probe_radius_mm});
   if (!ref.ok()) return ref.status().WithContext("the reference instrument (" + config.reference_instrument + ")");
   return std::optional<InstrumentReference>(std::move(*ref));
 }

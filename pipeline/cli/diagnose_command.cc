@@ -1,5 +1,6 @@
 // tpcal diagnose POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--reference ERRORS.yaml|REF_POINTS]
-//                 [--reference INSTRUMENT_FILE --reference-instrument NAME [--reference-setup S.yaml]]
+//                 [--reference INSTRUMENT_FILE --reference-instrument NAME [--reference-setup S.yaml]
+//                  [--reference-probe-radius-mm R]]
 //                 [--anchor FEATURE@X,Y,Z] [--noise-um S] [--json OUT] [--html OUT]
 // tpcal diagnose --validate [--testpiece NAME] [--config TP.yaml] [--trials N] [--seed S]
 //                 [--magnitudes 1,2,5,10,20] [--noise 0.5,1,2] [--families F,...] [--markdown OUT]
@@ -83,6 +84,9 @@ CLI::Option* AddDiagnoseOptions(CLI::App* sub, DiagnoseArgs* args) {
   sub->add_option("--reference-setup", r->reference_setup,
                   "with --reference-instrument probe_artifacts: its artifacts (tpcal.artifacts/1; default seed 000's "
                   "three columns); ballbar: its installations (tpcal.ballbar_setup/1, required)");
+  sub->add_option("--reference-probe-radius-mm", r->reference_probe_radius_mm,
+                  "with --reference-instrument probe_artifacts: the stylus ball radius its touches were taken "
+                  "with, mm (default 3)");
   sub->add_option("--noise-um", r->noise_um, "known CMM noise sigma (um) for 'beyond noise'; 0 = estimated")
       ->capture_default_str();
   sub->add_option("--alpha", r->alpha, "family-wise false-alarm probability of the verdict")->capture_default_str();

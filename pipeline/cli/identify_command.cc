@@ -1,7 +1,8 @@
 // tpcal identify POINTS --testpiece NAME [--config TP.yaml] [--machine M.yaml] [--anchor FEATURE@X,Y,Z]
 //                [--uncertainty jackknife|analytic|mc|all] [--parameters P,...] [--json OUT]
 //                tpcal identify BALLPOS --instrument datum_ball [--machine M.yaml] [--parameters P,...] [--ball X,Y,Z] [--json OUT]
-//                tpcal identify PROBEPTS --instrument probe_artifacts [--artifacts A.yaml] [--machine M.yaml] [--json OUT]
+//                tpcal identify PROBEPTS --instrument probe_artifacts [--artifacts A.yaml] [--machine M.yaml]
+//                               [--probe-radius-mm R] [--json OUT]
 //                tpcal identify BALLBAR --instrument ballbar --setup S.yaml [--machine M.yaml] [--json OUT] [--errors-out E.yaml]
 #include <CLI/CLI.hpp>
 
@@ -39,6 +40,7 @@ struct IdentifyArgs {
   std::string artifacts;   // probe_artifacts: the artifact YAML ("" = seed 000's three columns)
   std::string html;        // probe_artifacts: the page with the error-map figures
   std::vector<double> reference_pose_deg = {0.0, 0.0};  // probe_artifacts: A, C of the zero pose
+  std::optional<double> probe_radius_mm;  // probe_artifacts: the stylus ball radius (default 3 mm)
   std::string setup;       // ballbar: the installations (tpcal.ballbar_setup/1)
 };
 
@@ -76,6 +78,7 @@ int RunProbeArtifacts(const IdentifyArgs& args) {
   request.machine_path = args.request.machine_path;
   request.reference_a_deg = args.reference_pose_deg[0];
   request.reference_c_deg = args.reference_pose_deg[1];
+  request.probe_radius_mm = args.probe_radius_mm.value_or(request.probe_radius_mm);
   auto report = pipeline::RunProbeArtifactsStage(request);
   if (!report.ok()) return ReportError(report.status());
   const int exit = WriteJsonOrText(args.json, pipeline::ProbeArtifactsJson(*report),
@@ -112,6 +115,8 @@ int RunDatumBall(const IdentifyArgs& args) {
 int RunIdentify(const IdentifyArgs& args) {
   if (!args.setup.empty() && args.instrument != "ballbar")
     return ReportError(Status(StatusCode::kInvalidArgument, "--setup needs --instrument ballbar"));
+  if (args.probe_radius_mm && args.instrument != "probe_artifacts")
+    return ReportError(Status(StatusCode::kInvalidArgument, "--probe-radius-mm needs --instrument probe_artifacts"));
   if (args.instrument == "datum_ball") return RunDatumBall(args);
   if (args.instrument == "probe_artifacts") return RunProbeArtifacts(args);
   if (args.instrument == "ballbar") return RunBallbar(args);
@@ -177,6 +182,10 @@ Command RegisterIdentify(CLI::App& app) {
                   "definition (the artifacts are located there)")
       ->delimiter(',')
       ->capture_default_str();
+  sub->add_option("--probe-radius-mm", args->probe_radius_mm,
+                  "with --instrument probe_artifacts: the stylus ball radius the touches were taken with, mm (a "
+                  "touch's linear command is its contact minus the radius along the approach; it places the "
+                  "squareness's columns); default 3 (seed 000's 6 mm ruby)");
   sub->add_option("--html", args->html,
                   "with --instrument probe_artifacts: an offline page with each error map against its angle "
                   "(95 % bands)");

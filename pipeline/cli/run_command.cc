@@ -99,6 +99,8 @@ Command RegisterRun(CLI::App& app) {
                   "the instrument of --reference: datum_ball (tpcal ballpos v1), probe_artifacts (tpcal probepts v1) "
                   "or ballbar (tpcal ballbar v1); a reference that cannot be read or identified is bad input (exit 2, "
                   "nothing written)");
+  sub->add_option("--reference-probe-radius-mm", args->overrides.reference_probe_radius_mm,
+                  "the stylus ball radius of a probe_artifacts --reference, mm (default 3)");
   sub->add_option("--reference-setup", args->overrides.reference_setup,
                   "the set-up of --reference: probe_artifacts' artifacts (tpcal.artifacts/1, optional), ballbar's "
                   "installations (tpcal.ballbar_setup/1, required)");

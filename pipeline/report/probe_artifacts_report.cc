@@ -191,11 +191,11 @@ PaJson PaMapsJson(const kinematics::ErrorMaps& maps) {
 
 std::string PaHeaderLine(const ProbeArtifactsReport& report) {
   const TablePoseFit& f = report.result.poses;
-  std::string o = fmt::format("probe artifacts: {} touches from {} ({}); artifacts {} ({} boxes)\n", f.num_touches,
-                              report.source, report.machine,
+  std::string o = fmt::format("probe artifacts: {} touches from {} ({}); artifacts {} ({} boxes); stylus radius {:g} mm\n",
+                              f.num_touches, report.source, report.machine,
                               report.artifacts_source.empty() ? std::string("seed 000 default set")
                                                               : report.artifacts_source,
-                              report.artifacts.boxes.size());
+                              report.artifacts.boxes.size(), report.probe_radius_mm);
   o += fmt::format("fit: {} table poses, rank {}, dof {}, sigma {:.3f} um", f.poses.size(), f.rank, f.dof, f.sigma_um);
   if (f.weighted) o += fmt::format(", weighted by each touch's u_um: chi-like scale {:.3f}", f.chi_scale);
   return o + "\n" + PaLinearErrorsLine(f);
@@ -452,6 +452,7 @@ std::string ProbeArtifactsJson(const ProbeArtifactsReport& report) {
               {"rank", r.poses.rank},
               {"dof", r.poses.dof},
               {"sigma_um", r.poses.sigma_um},
+              {"probe_radius_mm", report.probe_radius_mm},
               {"weighted", r.poses.weighted},
               {"chi_scale", r.poses.weighted ? PaJson(r.poses.chi_scale) : PaJson(nullptr)}};
   const TablePose* ref = PaReferencePose(r.poses);
