@@ -136,7 +136,8 @@ Status PipelineConfig::Validate() const {
   if (reference_probe_radius_mm && reference_instrument != "probe_artifacts")
     return Status(StatusCode::kInvalidArgument,
                   "'reference': probe_radius_mm is for probe_artifacts (its stylus), not '" +
-                      EchoInput(reference_instrument) + "'", source);
+                      (reference_instrument.empty() ? std::string("no reference") : EchoInput(reference_instrument)) +
+                      "'", source);
   if (reference_instrument == "ballbar" && reference_setup.empty())
     return Status(StatusCode::kInvalidArgument,
                   "'reference': instrument ballbar needs its set-up (reference.setup / --reference-setup S.yaml, "
