@@ -90,6 +90,27 @@ TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
   }
 }
 
+// A straightness whose visible part the base leaves on one feature (S_R or B_R: the axis range
+// only that feature spans) was flagged as patches on both sides of the model and read
+// `local_defect`; the diagnosis of every point now names the effect when its model leaves no patch
+// (PatchAsEffect in diagnosis.cc). Truth: straightness withheld, 5x, against a 0.05 um probing test
+// (seed 4, 8 trials; before, one read local_defect and 6 straightness; the CLI's 100-trial run,
+// README: 6 local_defect of 100 before, 1 after). No trial may read local_defect.
+TEST(InstrumentValidation, StraightnessLeftOnOneFeatureIsNotALocalDefect) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  ValidationOptions v = SmallInstrumentStudy({"linear_straightness"}, 8);
+  v.magnitudes = {5.0};
+  v.seed = 4;
+  auto s = RunInstrumentValidation(setup, v, {.instrument = "probe_artifacts", .noise_um = 0.05});
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  int straightness = 0;
+  for (const ValidationTrial& t : s->trials) {
+    EXPECT_NE(t.verdict, "local_defect") << t.true_detail;
+    straightness += t.verdict == "linear_straightness";
+  }
+  EXPECT_GE(straightness, 7);
+}
+
 // Against a ball bar round C holding A at 0 (seven installations, 0.1 um readings): its maps give
 // no parameter equivalent (they carry no component along C's location errors and see nothing of
 // A), so nothing is compared and the piece's own parameters are fitted from the piece; the

@@ -130,6 +130,42 @@ std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, con
   return both;
 }
 
+// When the screen's patches made the verdict local_defect and they lie on both sides of the
+// model: the diagnosis of every point, and if it names an effect of the catalogue whose model
+// leaves no patch to flag (the screen run again with it), that effect explains the patches: the
+// diagnosis of what that screen keeps, local_defect named indistinguishable. Else `first`. Both
+// sides, because a burr, a chip or a dent departs one way (in one patch or split in two), while
+// the base fit takes the mean of an effect whose visible part it leaves on one feature (a
+// straightness over the axis range only that feature spans), which then swings both ways.
+Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
+                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
+                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+  namespace step = diagnosis_internal;
+  const auto& patches = first.local_defects;
+  const bool both_sides = std::any_of(patches.begin(), patches.end(), [](const auto& p) { return p.peak_um > 0; }) &&
+                          std::any_of(patches.begin(), patches.end(), [](const auto& p) { return p.peak_um < 0; });
+  if (!both_sides) return first;
+  DiagnosisOptions keep = options;
+  keep.screen_outliers = false;
+  const step::ScreenedInput kept = step::ScreenBaseFit(fit, mo, keep, reference_dev_um);
+  auto whole = DiagnoseKept(piece, machine, mo, keep, reference_dev_um, base_names, fit, kept);
+  if (!whole.ok() || !IsCatalogueFamily(whole->verdict.family)) return first;
+  const bool reference_mode = options.reference.has_value() || reference_dev_um != nullptr;
+  auto all = BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get());
+  if (!all.ok()) return all.status();
+  const auto effect = VerdictColumns(*all, *whole);
+  if (!effect) return first;
+  const step::ScreenedInput again = step::ScreenBaseFit(fit, mo, options, reference_dev_um, &*effect);
+  if (!again.screen.patches.empty()) return first;
+  auto d = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, fit, again);
+  if (!d.ok() || d->verdict.family != whole->verdict.family) return first;
+  auto& alike = d->verdict.indistinguishable_from;
+  alike.push_back("local_defect");
+  std::sort(alike.begin(), alike.end());
+  return d;
+}
+
 // The diagnosis (diagnosis.h): the base fitted to every point, the outlier screen, then the
 // diagnosis of the points it keeps. When points were left out and the verdict is an effect of
 // the catalogue, the screen is run again with that effect in the model (with both of a pair the
@@ -155,6 +191,8 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   if (!fit.ok()) return fit.status();
   const step::ScreenedInput screened = step::ScreenBaseFit(*fit, mo, options, reference_dev_um);
   auto first = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, screened);
+  if (first.ok() && first->verdict.family == "local_defect")
+    return PatchAsEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
   if (!first.ok() || !screened.left_out || !IsCatalogueFamily(first->verdict.family)) return first;
   auto all = BuildCandidates(piece, machine, fit->errors, mo, base_names, reference_mode, fit->design.get());
   if (!all.ok()) return all.status();
