@@ -59,6 +59,10 @@ struct ArtifactSet {
 // (100, 0), (-100, 0) and (0, 100) mm.
 ArtifactSet Seed000Artifacts();
 
+// The stylus ball radius a probing test is taken with when nothing says otherwise (mm): seed
+// 000's 6 mm ruby.
+inline constexpr double kSeed000StylusRadiusMm = 3.0;
+
 // machine_from_part of the error-free `model` at the rotary commands of `rotary` (its linear
 // members ignored: an A/C or B/C table carries the part on rotary axes only).
 Rigid3 NominalMachineFromTable(const MachineModel& model, const AxisState& rotary);

@@ -25,7 +25,7 @@
 namespace tpcal::kinematics {
 
 struct TouchOptions {
-  double probe_radius_mm = 3.0;      // stylus ball radius (seed 000: phi 6 mm ruby)
+  double probe_radius_mm = kSeed000StylusRadiusMm;  // stylus ball radius
   double pretravel_um = 0.0;         // p0, uncompensated constant pre-travel
   double pretravel_lobing_um = 0.0;  // p3, three-lobed pre-travel amplitude
   Status Validate() const;           // kInvalidArgument: radius <= 0, a value not finite

@@ -70,7 +70,7 @@ struct TablePoseOptions {
   // reported not identifiable). Empty: the linear axes taken as error-free (seed 000's model).
   std::vector<std::string> linear_errors = LinearSquarenessSet();
   // The stylus ball radius (mm): a touch's linear command is its contact minus radius x approach.
-  double probe_radius_mm = 3.0;
+  double probe_radius_mm = kSeed000StylusRadiusMm;
 };
 
 struct TablePoseFit {

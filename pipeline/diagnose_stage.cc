@@ -80,6 +80,8 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   options.screen_outliers = !r.keep_outliers;
   if (!r.reference_setup.empty() && r.reference_instrument.empty())
     return Status(StatusCode::kInvalidArgument, "--reference-setup needs --reference-instrument probe_artifacts or ballbar");
+  if (r.reference_probe_radius_mm && r.reference_instrument != "probe_artifacts")
+    return Status(StatusCode::kInvalidArgument, "--reference-probe-radius-mm needs --reference-instrument probe_artifacts");
   if (!r.reference_instrument.empty() || IsIdentificationReference(r.reference_path)) {
     if (r.reference_path.empty())
       return Status(StatusCode::kInvalidArgument, "--reference-instrument needs --reference FILE (the instrument's file)");

@@ -148,15 +148,20 @@ Result<InstrumentReference> IrBallbar(const LoadedPiece& setup, const Instrument
 }
 
 Result<InstrumentReference> IrIdentify(const LoadedPiece& setup, const InstrumentReferenceRequest& r) {
-  if (r.probe_radius_mm && (IsIdentificationReference(r.path) || r.instrument != "probe_artifacts"))
+  if (r.probe_radius_mm && IsIdentificationReference(r.path))
     return Status(StatusCode::kInvalidArgument,
-                  "a probe radius is for a probing test's raw file (--reference-instrument probe_artifacts; an "
-                  "identification JSON was identified with its own)",
+                  "a stylus radius (--reference-probe-radius-mm) is for a probing test's raw file: an identification "
+                  "JSON was identified with its own",
                   r.path);
   if (IsIdentificationReference(r.path)) return IrReadIdentified(setup, r.path);
   if (!IsReferenceInstrument(r.instrument))
     return Status(StatusCode::kInvalidArgument,
                   "--reference-instrument '" + r.instrument + "': expected " + kReferenceInstruments);
+  if (r.probe_radius_mm && r.instrument != "probe_artifacts")
+    return Status(StatusCode::kInvalidArgument,
+                  "a stylus radius (--reference-probe-radius-mm) is for --reference-instrument probe_artifacts, not " +
+                      r.instrument,
+                  r.path);
   if (r.instrument == "probe_artifacts") return IrProbeArtifacts(setup, r);
   if (r.instrument == "ballbar") return IrBallbar(setup, r);
   if (!r.setup_path.empty())

@@ -91,7 +91,9 @@ Result<std::string> ProbeErrorsYaml(const kinematics::MachineModel& m, const kin
 Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest& r) {
   if (!std::isfinite(r.probe_radius_mm) || !(r.probe_radius_mm > 0.0))
     return Status(StatusCode::kInvalidArgument,
-                  fmt::format("probe radius {} mm: expected a stylus ball radius > 0 mm", r.probe_radius_mm));
+                  fmt::format("stylus radius {} mm (--probe-radius-mm, --reference-probe-radius-mm or "
+                              "reference.probe_radius_mm): expected a ball radius > 0 mm",
+                              r.probe_radius_mm));
   auto file = ReadProbePoints(r.path);
   if (!file.ok()) return file.status();
   auto set = r.artifacts_path.empty() ? Result<kinematics::ArtifactSet>(kinematics::Seed000Artifacts())

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/status.h"
+#include "kinematics/probe_artifacts.h"
 #include "pipeline/report/probe_artifacts_report.h"
 
 namespace tpcal::pipeline {
@@ -18,12 +19,13 @@ struct ProbeArtifactsRequest {
   double reference_a_deg = 0.0, reference_c_deg = 0.0;  // the pose that is zero by definition
   // The stylus ball radius the touches were taken with (mm): a touch's linear command is its
   // contact minus radius x approach, which places the squareness's columns.
-  double probe_radius_mm = 3.0;
+  double probe_radius_mm = kinematics::kSeed000StylusRadiusMm;
 };
 
-// Errors: a probe radius not finite or not > 0 (kInvalidArgument); the files' (file:line); a row naming an artifact the set lacks or a face name other
-// than +X -X +Y -Y +Z (kInvalidArgument, file:line); a machine other than an A/C table, rotary
-// columns other than A_deg and C_deg (naming the file); the identification's (a touch's line named).
+// Errors: a stylus radius not finite or not > 0 (kInvalidArgument); the files' (file:line); a row
+// naming an artifact the set lacks or a face name other than +X -X +Y -Y +Z (kInvalidArgument,
+// file:line); a machine other than an A/C table, rotary columns other than A_deg and C_deg
+// (naming the file); the identification's (a touch's line named).
 Result<ProbeArtifactsReport> RunProbeArtifactsStage(const ProbeArtifactsRequest& request);
 
 }  // namespace tpcal::pipeline

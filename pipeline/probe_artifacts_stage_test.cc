@@ -140,7 +140,7 @@ TEST(ProbeArtifactsStage, TheStylusRadiusPlacesTheSquarenessColumns) {
   right.probe_radius_mm = 0.0;
   auto refused = RunProbeArtifactsStage(right);
   ASSERT_FALSE(refused.ok());
-  EXPECT_NE(refused.status().message().find("probe radius 0 mm"), std::string::npos) << refused.status().ToString();
+  EXPECT_NE(refused.status().message().find("stylus radius 0 mm"), std::string::npos) << refused.status().ToString();
 }
 
 TEST(ProbeArtifactsStage, UnknownArtifactOrFaceNamesItsLine) {

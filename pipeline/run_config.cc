@@ -70,7 +70,8 @@ Result<T> As(const std::string& source, const YAML::Node& node, const std::strin
 // probe_artifacts (> 0; default 3); paths relative to the YAML's directory.
 Status ParseReferenceBlock(const std::string& source, const YAML::Node& v, PipelineConfig* c) {
   if (!v.IsMap())
-    return ParseErrorAt(source, v, "'reference': expected a map {instrument: datum_ball, file: PATH, setup: PATH}");
+    return ParseErrorAt(source, v,
+                        "'reference': expected a map {instrument: datum_ball, file: PATH, setup: PATH, probe_radius_mm: R}");
   c->reference_instrument = "datum_ball";
   bool have_file = false;
   for (const auto& r : v) {
@@ -133,11 +134,16 @@ Status PipelineConfig::Validate() const {
     return Status(StatusCode::kInvalidArgument,
                   "'reference': setup is for probe_artifacts (its artifacts) or ballbar (its installations), not '" +
                       EchoInput(reference_instrument) + "'", source);
+  if (reference_probe_radius_mm && reference_instrument.empty())
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': probe_radius_mm (--reference-probe-radius-mm) needs a probe_artifacts reference", source);
   if (reference_probe_radius_mm && reference_instrument != "probe_artifacts")
     return Status(StatusCode::kInvalidArgument,
                   "'reference': probe_radius_mm is for probe_artifacts (its stylus), not '" +
-                      (reference_instrument.empty() ? std::string("no reference") : EchoInput(reference_instrument)) +
-                      "'", source);
+                      EchoInput(reference_instrument) + "'", source);
+  if (reference_probe_radius_mm && !(std::isfinite(*reference_probe_radius_mm) && *reference_probe_radius_mm > 0.0))
+    return Status(StatusCode::kInvalidArgument,
+                  "'reference': probe_radius_mm (--reference-probe-radius-mm): expected a stylus radius in mm > 0", source);
   if (reference_instrument == "ballbar" && reference_setup.empty())
     return Status(StatusCode::kInvalidArgument,
                   "'reference': instrument ballbar needs its set-up (reference.setup / --reference-setup S.yaml, "

@@ -192,6 +192,19 @@ TEST(PipelineOverrides, ReferenceProbeRadiusOfAProbingTest) {
   auto ball = ParsePipelineConfig("points: a.csv\nreference: {file: b.csv, probe_radius_mm: 3}\n", "/d/p.yaml");
   ASSERT_TRUE(ball.ok());
   EXPECT_NE(ball->Validate().ToString().find("probe_radius_mm is for probe_artifacts"), std::string::npos);
+  auto plain = ParsePipelineConfig("points: a.csv\n", "/d/p.yaml");
+  ASSERT_TRUE(plain.ok());
+  PipelineOverrides radius_alone;
+  radius_alone.reference_probe_radius_mm = 2.0;
+  auto alone = ApplyPipelineOverrides(*plain, radius_alone, false);
+  ASSERT_FALSE(alone.ok());
+  EXPECT_NE(alone.status().ToString().find("needs a probe_artifacts reference"), std::string::npos)
+      << alone.status().ToString();
+  o.reference_probe_radius_mm = -1.0;
+  auto negative = ApplyPipelineOverrides(*file, o, false);
+  ASSERT_FALSE(negative.ok());
+  EXPECT_NE(negative.status().ToString().find("expected a stylus radius in mm > 0"), std::string::npos)
+      << negative.status().ToString();
 }
 
 }  // namespace

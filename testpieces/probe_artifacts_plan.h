@@ -32,7 +32,7 @@ namespace tpcal::testpieces {
 struct ProbeArtifactsPlanOptions {
   std::vector<double> a_deg = {0.0, -30.0, -60.0, -90.0};  // tilt (A) commands, deg, ISO 841
   double c_step_deg = 60.0;                               // C from 0 to < 360 in this step, deg
-  double probe_radius_mm = 3.0;    // stylus ball radius
+  double probe_radius_mm = kinematics::kSeed000StylusRadiusMm;  // stylus ball radius
   double clearance_mm = 10.0;      // where each touch starts: this far off the face (ball surface)
   double table_z_mm = 0.0;         // table surface, part frame z
   Status Validate() const;         // kInvalidArgument naming the option

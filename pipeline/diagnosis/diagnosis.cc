@@ -131,21 +131,18 @@ std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, con
 }
 
 // When the screen's patches made the verdict local_defect and they lie on both sides of the
-// model: the diagnosis of every point, and if it names an effect of the catalogue whose model
-// leaves no patch to flag (the screen run again with it), that effect explains the patches: the
-// diagnosis of what that screen keeps, local_defect named indistinguishable. Else `first`. Both
-// sides, because a burr, a chip or a dent departs one way (in one patch or split in two), while
-// the base fit takes the mean of an effect whose visible part it leaves on one feature (a
-// straightness over the axis range only that feature spans), which then swings both ways.
+// model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
+// catalogue whose model leaves no patch to flag (the screen run again with it), that effect
+// explains the patches: the diagnosis of what that screen keeps, local_defect named
+// indistinguishable. Else `first`: also when the screen leaves nothing out (--keep-outliers) or
+// the patches came from an earlier screen (their points are not in `mo`: DiagnoseIdentified).
 Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                       const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
                                       const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
                                       const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
   namespace step = diagnosis_internal;
-  const auto& patches = first.local_defects;
-  const bool both_sides = std::any_of(patches.begin(), patches.end(), [](const auto& p) { return p.peak_um > 0; }) &&
-                          std::any_of(patches.begin(), patches.end(), [](const auto& p) { return p.peak_um < 0; });
-  if (!both_sides) return first;
+  if (!options.screen_outliers || !options.prior_local_defects.empty() || !PatchesOnBothSides(first.local_defects))
+    return first;
   DiagnosisOptions keep = options;
   keep.screen_outliers = false;
   const step::ScreenedInput kept = step::ScreenBaseFit(fit, mo, keep, reference_dev_um);
@@ -153,7 +150,7 @@ Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const 
   if (!whole.ok() || !IsCatalogueFamily(whole->verdict.family)) return first;
   const bool reference_mode = options.reference.has_value() || reference_dev_um != nullptr;
   auto all = BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get());
-  if (!all.ok()) return all.status();
+  if (!all.ok()) return first;
   const auto effect = VerdictColumns(*all, *whole);
   if (!effect) return first;
   const step::ScreenedInput again = step::ScreenBaseFit(fit, mo, options, reference_dev_um, &*effect);
@@ -220,6 +217,11 @@ Result<testpieces::MeasuredObservations> ObservationsForDiagnosis(const testpiec
 
 bool IsCatalogueFamily(const std::string& family) {
   return family != "none" && family != "local_defect" && family != "unexplained";
+}
+
+bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
+  return std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um > 0; }) &&
+         std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um < 0; });
 }
 
 Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpieces::TestPiece& piece,

@@ -236,6 +236,10 @@ struct WeaklyObservableFamily {
 // local_defect or unexplained.
 bool IsCatalogueFamily(const std::string& family);
 
+// Whether local defects depart on both sides of the model (one peak > 0, another < 0): a burr, a
+// chip or a dent departs one way; the part of an effect the base leaves on one feature swings both.
+bool PatchesOnBothSides(const std::vector<LocalDefect>& patches);
+
 struct Verdict {
   std::string family = "none";
   std::string name = "nothing beyond measurement noise";
@@ -245,7 +249,8 @@ struct Verdict {
   // by the same two tests, one by one rather than by family: another axis's candidate of the
   // verdict's own family (A's angular positioning beside C's) is listed here, which
   // indistinguishable_from, keyed by family, cannot say. Every candidate passing a test is listed
-  // (of a family in indistinguishable_from, at least the one that put it there; others too);
+  // (of a family in indistinguishable_from, at least the one that put it there, but local_defect,
+  // which has no candidate; others too);
   // `also`'s family and larger forms of the verdict's own candidate (which hold it) are left out.
   std::vector<std::string> indistinguishable_candidates;
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict

@@ -18,7 +18,7 @@ struct ProbeArtifactsReport {
   std::string artifacts_source;  // the artifact YAML ("" = seed 000's default set)
   std::string machine;           // machine type name
   kinematics::ArtifactSet artifacts;
-  double probe_radius_mm = 3.0;  // the stylus ball radius the touches were taken with
+  double probe_radius_mm = kinematics::kSeed000StylusRadiusMm;  // the stylus radius the touches were taken with
   std::vector<std::size_t> lines;  // source line of each touch
   kinematics::ProbeArtifactsResult result;
   // tpcal.errors/1 (kinematics/errors_yaml.md) of the maps, for `simulate --errors` and
