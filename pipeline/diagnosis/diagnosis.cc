@@ -130,6 +130,13 @@ std::optional<Eigen::MatrixXd> VerdictColumns(const CandidateCatalogue& all, con
   return both;
 }
 
+// Whether local defects depart on both sides of the model (one peak > 0, another < 0): a burr, a
+// chip or a dent departs one way; the part of an effect the base leaves on one feature swings both.
+bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
+  return std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um > 0; }) &&
+         std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um < 0; });
+}
+
 // When the screen's patches made the verdict local_defect and they lie on both sides of the
 // model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
 // catalogue whose model leaves no patch to flag (the screen run again with it), that effect
@@ -217,11 +224,6 @@ Result<testpieces::MeasuredObservations> ObservationsForDiagnosis(const testpiec
 
 bool IsCatalogueFamily(const std::string& family) {
   return family != "none" && family != "local_defect" && family != "unexplained";
-}
-
-bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
-  return std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um > 0; }) &&
-         std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um < 0; });
 }
 
 Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpieces::TestPiece& piece,

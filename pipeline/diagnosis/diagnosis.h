@@ -236,10 +236,6 @@ struct WeaklyObservableFamily {
 // local_defect or unexplained.
 bool IsCatalogueFamily(const std::string& family);
 
-// Whether local defects depart on both sides of the model (one peak > 0, another < 0): a burr, a
-// chip or a dent departs one way; the part of an effect the base leaves on one feature swings both.
-bool PatchesOnBothSides(const std::vector<LocalDefect>& patches);
-
 struct Verdict {
   std::string family = "none";
   std::string name = "nothing beyond measurement noise";

@@ -233,6 +233,15 @@ TEST(ProbeArtifactsReport, TextNamesEveryMapAndTheFitHeader) {
   EXPECT_NE(t.find("not identifiable: none"), std::string::npos);
 }
 
+// The stylus radius the touches were taken with is stated in the JSON's fit block and the text's
+// header, whatever it is (not seed 000's 3 mm).
+TEST(ProbeArtifactsReport, TheStylusRadiusIsStated) {
+  ProbeArtifactsReport report = ParFull();
+  report.probe_radius_mm = 2.5;
+  EXPECT_EQ(nlohmann::json::parse(ProbeArtifactsJson(report))["fit"]["probe_radius_mm"], 2.5);
+  EXPECT_NE(ProbeArtifactsText(report).find("; stylus radius 2.5 mm"), std::string::npos);
+}
+
 TEST(ProbeArtifactsReport, TextGivesEachPosesLargestCorrelation) {
   const ProbeArtifactsReport& report = ParFull();
   const auto& fit = report.result.poses;
