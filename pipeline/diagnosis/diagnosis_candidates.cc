@@ -74,8 +74,8 @@ void ThermalDriftSpecs(const std::vector<Axis>& rotary, double duration_s, std::
   }
 }
 
-// linear_straightness (quadratic; quadratic to quartic; to sextic) and linear_positioning (scale;
-// scale and quadratic) of X, Y, Z.
+// linear_straightness (quadratic; quadratic to quartic; to sextic of X, Y, Z; quadratic to quartic
+// of each axis in each direction) and linear_positioning (scale; scale and quadratic) of X, Y, Z.
 void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
   MachineSpec q{"linear_straightness", "quadratic straightness of X, Y, Z", {}};
   MachineSpec c{"linear_straightness", "quadratic to quartic straightness of X, Y, Z", {}};
@@ -94,6 +94,15 @@ void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
   specs->push_back(q);
   specs->push_back(c);
   specs->push_back(x);
+  for (const std::string& s : diagnosis_internal::StraightnessSymbols()) {
+    // One axis in one direction (E_ZY: Y's motion in Z): a bow of one axis is a third as many
+    // directions as the three axes' together, which changed location errors also nearly hold.
+    MachineSpec one{"linear_straightness",
+                    "quadratic to quartic straightness of " + s.substr(3, 1) + " in " + s.substr(2, 1) + " (" + s + ")", {}};
+    for (int k = 2; k <= 4; ++k)
+      one.items.push_back("{linear_error_motion: {symbol: " + s + ", coefficients_um_per_mm_pow: [0], powers: [" + std::to_string(k) + "]}}");
+    specs->push_back(one);
+  }
   MachineSpec s1{"linear_positioning", "scale error of X, Y, Z", {}};
   MachineSpec s2{"linear_positioning", "scale and quadratic positioning error of X, Y, Z", {}};
   for (const char* s : {"E_XX", "E_YY", "E_ZZ"}) {

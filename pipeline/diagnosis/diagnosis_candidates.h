@@ -7,8 +7,9 @@
 //   thermal_drift        linear drift (um/h) of the workpiece-branch translations (E_X0A, E_Y0A,
 //                        E_Z0A and the C translations E_Y0C, E_Z0C on an A/C table), and the
 //                        exponential form K (1 - exp(-t / tau)), tau = one third of the program;
-//   linear_straightness  quadratic, and quadratic to quartic, straightness error motions E_YX, E_ZX,
-//                        E_XY, E_ZY, E_XZ, E_YZ (polynomials in the axis position, mm);
+//   linear_straightness  quadratic, quadratic to quartic and to sextic straightness error motions
+//                        E_YX, E_ZX, E_XY, E_ZY, E_XZ, E_YZ together (polynomials in the axis
+//                        position, mm), and quadratic to quartic of each of them alone;
 //   linear_positioning   scale E_XX.c1, E_YY.c1, E_ZZ.c1, and scale + quadratic;
 //   rotary_error_motion  Fourier orders 2..5 of the last rotary axis (C): radial E_XC, E_YC;
 //                        axial E_ZC; tilt E_AC, E_BC;
