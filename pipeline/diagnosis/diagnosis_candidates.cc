@@ -95,8 +95,9 @@ void LinearAxisSpecs(std::vector<MachineSpec>* specs) {
   specs->push_back(c);
   specs->push_back(x);
   for (const std::string& s : diagnosis_internal::StraightnessSymbols()) {
-    // One axis in one direction (E_ZY: Y's motion in Z): a bow of one axis is a third as many
-    // directions as the three axes' together, which changed location errors also nearly hold.
+    // One axis in one direction (E_ZY: Y's motion in Z), rank 3 against the six symbols' 18
+    // together: a bow of one axis then competes with smaller models (changed location errors, a
+    // drift, positioning) without carrying the other five symbols' directions.
     MachineSpec one{"linear_straightness",
                     "quadratic to quartic straightness of " + s.substr(3, 1) + " in " + s.substr(2, 1) + " (" + s + ")", {}};
     for (int k = 2; k <= 4; ++k)
