@@ -1,6 +1,9 @@
 // The gap diagnosis of an identification (pipeline/diagnosis/diagnosis.h) against the model it
 // identified: the same observations, base parameters and nominal slot design, the stage's outlier
-// screen carried over as prior. Shared by `tpcal run` and the gap check of `tpcal identify`.
+// screen carried over as prior. When that reads local_defect and the stage left points out, the
+// diagnosis of every point is taken if its verdict's effect explains the patches
+// (DiagnosisResult::explained_patches), as Diagnose would. Shared by `tpcal run`, the gap check of
+// `tpcal identify` and the diagnosis against an instrument.
 #pragma once
 
 #include "core/point_set.h"

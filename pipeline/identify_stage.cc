@@ -75,6 +75,8 @@ struct ScreenListing {
   std::vector<LocalDefect> local_defects;
   double neighbour_sigma_um = 0.0;
   double neighbour_sigma_dof = 0.0;
+  std::optional<testpieces::MeasuredObservations> unscreened;
+  std::shared_ptr<const kinematics::SlotDesign> unscreened_slots;
 };
 
 void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measured, testpieces::MeasuredObservations* obs,
@@ -92,6 +94,8 @@ void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measur
   ListFlagged(screen, *obs, left_out, &out->outliers, &out->local_defects);
   AttachScreenLines(measured, &out->outliers, &out->local_defects);
   if (!left_out) return;
+  out->unscreened = *obs;
+  out->unscreened_slots = *slots;
   const std::vector<int> rows = screen.KeptIndices();
   *obs = ObservationRows(*obs, rows);
   pass_options->initial_design = std::make_shared<kinematics::LinearDesign>(kinematics::RowsOf(lin, rows));
@@ -204,7 +208,8 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                              std::move(parameters),        std::move(*id),
                              obs->scan_cells,              std::move(slot_design),
                              std::move(screened.outliers), std::move(screened.local_defects),
-                             screened.neighbour_sigma_um,  screened.neighbour_sigma_dof};
+                             screened.neighbour_sigma_um,  screened.neighbour_sigma_dof,
+                             std::move(screened.unscreened), std::move(screened.unscreened_slots)};
 }
 
 }  // namespace tpcal::pipeline

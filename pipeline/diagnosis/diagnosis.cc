@@ -167,6 +167,7 @@ Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const 
   auto& alike = d->verdict.indistinguishable_from;
   alike.push_back("local_defect");
   std::sort(alike.begin(), alike.end());
+  d->explained_patches = std::move(first.local_defects);
   return d;
 }
 
@@ -222,6 +223,12 @@ Result<testpieces::MeasuredObservations> ObservationsForDiagnosis(const testpiec
 
 }  // namespace
 
+void AttachSourceLines(const PointSet& measured, DiagnosisResult* result) {
+  AttachScreenLines(measured, &result->outliers, &result->local_defects);
+  std::vector<ScreenedPoint> none;
+  AttachScreenLines(measured, &none, &result->explained_patches);
+}
+
 bool IsCatalogueFamily(const std::string& family) {
   return family != "none" && family != "local_defect" && family != "unexplained";
 }
@@ -258,7 +265,7 @@ Result<DiagnosisResult> Diagnose(const testpieces::TestPiece& piece, const kinem
   auto result = DiagnoseImpl(piece, machine, *obs, options, nullptr);
   if (!result.ok()) return result;
   result->skipped_points = std::move(skipped);
-  AttachScreenLines(measured, &result->outliers, &result->local_defects);
+  AttachSourceLines(measured, &*result);
   return result;
 }
 
@@ -289,7 +296,7 @@ Result<DiagnosisResult> DiagnoseAgainstPoints(const testpieces::TestPiece& piece
   for (auto& s : skipped_ref) skipped.push_back("reference: " + s);
   result->skipped_points = std::move(skipped);
   result->reference_match = matching.summary;
-  AttachScreenLines(measured, &result->outliers, &result->local_defects);
+  AttachSourceLines(measured, &*result);
   return result;
 }
 

@@ -314,6 +314,10 @@ struct DiagnosisResult {
   // against it (p-value of "the base gap is noise of that sigma"; 1 when not screened).
   std::vector<ScreenedPoint> outliers;
   std::vector<LocalDefect> local_defects;
+  // Patches the screen flagged that the verdict's effect explains (its model leaves none to flag):
+  // their points are kept in the fit; listed so the lab can look there (local_defect is then in
+  // verdict.indistinguishable_from). Empty otherwise.
+  std::vector<LocalDefect> explained_patches;
   double neighbour_sigma_um = 0.0;
   double excess_p_value = 1.0;
   std::vector<double> gap_um;                    // per observation
@@ -335,6 +339,10 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
                                                                  const DiagnosisOptions& options);
 
 // Diagnosis of observations already in the nominal part frame (identify_stage.h).
+// Fills the source lines (from the point file the observations came from) of the result's
+// outliers, local defects and explained patches.
+void AttachSourceLines(const PointSet& measured, DiagnosisResult* result);
+
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine,
                                              const testpieces::MeasuredObservations& observations,

@@ -25,6 +25,15 @@ std::string Lines(const std::vector<std::size_t>& lines) {
 
 constexpr std::size_t kMaxListedPoints = 50;
 
+// A table row of a patch: `kind`, feature, points, peak and mean, centre and extent, file lines.
+std::string PatchRow(const std::string& kind, const LocalDefect& p) {
+  return fmt::format(
+      "<tr><td class=\"t\">{}</td><td class=\"t\">{}</td><td>{}</td><td>peak {:.2f}, mean {:.2f}</td>"
+      "<td class=\"t\">centre ({:.1f}, {:.1f}, {:.1f}) mm, extent {:.1f} mm</td><td class=\"t\">{}</td></tr>\n",
+      kind, XmlEscape(p.feature), p.n_points, p.peak_um, p.mean_um, p.centre_mm.x(), p.centre_mm.y(), p.centre_mm.z(),
+      p.extent_mm, Lines(p.lines));
+}
+
 }  // namespace
 
 std::string VerdictFamiliesHtml(const Verdict& v) {
@@ -55,21 +64,20 @@ std::string BaseShiftHtml(const DiagnosisResult& d) {
 }
 
 std::string ScreenHtml(const DiagnosisResult& d) {
-  if (d.outliers.empty() && d.local_defects.empty()) return "";
+  if (d.outliers.empty() && d.local_defects.empty() && d.explained_patches.empty()) return "";
   const bool left_out = std::all_of(d.outliers.begin(), d.outliers.end(), [](const auto& p) { return p.left_out; });
   std::string h = fmt::format(
       "<p id=\"screen\">Outlier screen (neighbour noise sigma {:.3f} um): {} local defect(s), {} flagged point(s), "
-      "{}.</p>\n",
+      "{}{}.</p>\n",
       d.neighbour_sigma_um, d.local_defects.size(), d.outliers.size(),
-      left_out ? "left out of identification and diagnosis" : "kept in (--keep-outliers)");
+      left_out ? "left out of identification and diagnosis" : "kept in (--keep-outliers)",
+      d.explained_patches.empty()
+          ? ""
+          : fmt::format("; {} patch(es) explained by the verdict's effect, kept", d.explained_patches.size()));
   h += "<table id=\"screen-table\"><tr><th class=\"t\">kind</th><th class=\"t\">feature</th><th>points</th>"
        "<th>size, um</th><th class=\"t\">where / reason</th><th class=\"t\">file lines</th></tr>\n";
-  for (const auto& p : d.local_defects)
-    h += fmt::format(
-        "<tr><td class=\"t\">local defect</td><td class=\"t\">{}</td><td>{}</td><td>peak {:.2f}, mean {:.2f}</td>"
-        "<td class=\"t\">centre ({:.1f}, {:.1f}, {:.1f}) mm, extent {:.1f} mm</td><td class=\"t\">{}</td></tr>\n",
-        XmlEscape(p.feature), p.n_points, p.peak_um, p.mean_um, p.centre_mm.x(), p.centre_mm.y(), p.centre_mm.z(),
-        p.extent_mm, Lines(p.lines));
+  for (const auto& p : d.local_defects) h += PatchRow("local defect", p);
+  for (const auto& p : d.explained_patches) h += PatchRow("patch explained by the verdict (kept)", p);
   for (std::size_t i = 0; i < d.outliers.size() && i < kMaxListedPoints; ++i) {
     const ScreenedPoint& p = d.outliers[i];
     h += fmt::format("<tr><td class=\"t\">{}</td><td class=\"t\">{}</td><td>1</td><td>{:.2f}</td>"

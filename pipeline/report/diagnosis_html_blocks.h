@@ -19,7 +19,7 @@ std::string VerdictFamiliesHtml(const Verdict& verdict);
 std::string BaseShiftHtml(const DiagnosisResult& result);
 
 // <table id="screen-table">: the local defects (feature, points, peak and mean um, centre mm,
-// lines), then the flagged points (at most 50 listed), with the neighbour sigma and whether they
+// lines), the patches the verdict's effect explains, then the flagged points (at most 50 listed), with the neighbour sigma and whether they
 // were left out.
 std::string ScreenHtml(const DiagnosisResult& result);
 

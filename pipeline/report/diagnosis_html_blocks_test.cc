@@ -62,6 +62,16 @@ TEST(DiagnosisHtmlBlocks, ScreenListsPatchesAndPointsWithTheirLines) {
   EXPECT_NE(ScreenHtml(d).find("kept in (--keep-outliers)"), std::string::npos);
 }
 
+// Patches the verdict's effect explains are kept in the fit and still listed where they lie.
+TEST(DiagnosisHtmlBlocks, PatchesTheVerdictExplainsAreListed) {
+  DiagnosisResult d;
+  d.explained_patches = {{.feature = "S_R", .n_points = 5, .peak_um = -2.4, .mean_um = -1.9, .extent_mm = 6.0,
+                          .point_index = {30, 31, 32, 33, 34}, .lines = {31, 32, 33, 34, 35}}};
+  const std::string h = ScreenHtml(d);
+  EXPECT_NE(h.find("patch explained by the verdict (kept)</td><td class=\"t\">S_R</td><td>5</td>"), std::string::npos) << h;
+  EXPECT_NE(h.find("31 32 33 34 35"), std::string::npos) << h;
+}
+
 // indistinguishable_candidates by name: the text and the HTML say which of the verdict's own
 // family (another axis) explain the gap about as well; another family's stays in the JSON only
 // (indistinguishable_from names that family); none listed, no line.

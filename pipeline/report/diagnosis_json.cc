@@ -124,6 +124,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   j["verdict"] = v;
   j["outliers"] = OutliersJson(r.outliers);
   j["local_defects"] = LocalDefectsJson(r.local_defects);
+  if (!r.explained_patches.empty()) j["explained_patches"] = LocalDefectsJson(r.explained_patches);
   j["neighbour_sigma_um"] = r.neighbour_sigma_um;
   j["excess_p_value"] = r.excess_p_value;
   if (r.pair) {
@@ -206,6 +207,7 @@ std::string DiagnosisText(const DiagnosisResult& r) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + f;
     o += "\n";
   }
+  for (const auto& p : r.explained_patches) o += "  a patch the screen flagged, explained by it (kept): " + PatchText(p) + "\n";
   if (const auto same = SameFamilyAlternatives(r); !same.empty())
     o += fmt::format("  within its family, explained about as well by: {}\n", fmt::join(same, "; "));
   if (r.verdict.also) o += "  a second effect adds beyond it: " + *r.verdict.also + "\n";
@@ -258,6 +260,7 @@ std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + XmlEscape(f);
     o += "</p>\n";
   }
+  for (const auto& p : r.explained_patches) o += "  a patch the screen flagged, explained by it (kept): " + PatchText(p) + "\n";
   if (const auto same = SameFamilyAlternatives(r); !same.empty())
     o += "<p>Within its family, explained about as well by: " + XmlEscape(fmt::format("{}", fmt::join(same, "; "))) +
          "</p>\n";

@@ -24,14 +24,16 @@ json LocalDefectsJson(const std::vector<LocalDefect>& defects) {
   return a;
 }
 
+std::string PatchText(const LocalDefect& d) {
+  return fmt::format("{}: {} points, peak {:+.2f} um, mean {:+.2f} um, over {:.1f} mm at ({:.1f}, {:.1f}, {:.1f}) mm, lines {}",
+                     d.feature, d.n_points, d.peak_um, d.mean_um, 2.0 * d.extent_mm, d.centre_mm.x(), d.centre_mm.y(),
+                     d.centre_mm.z(), fmt::join(d.lines, " "));
+}
+
 std::string ScreenText(const std::vector<ScreenedPoint>& points, const std::vector<LocalDefect>& defects,
                        double sigma_um) {
   std::string o;
-  for (const auto& d : defects)
-    o += fmt::format("  local defect on {}: {} points, peak {:+.2f} um, mean {:+.2f} um, over {:.1f} mm at ({:.1f}, {:.1f}, "
-                     "{:.1f}) mm, lines {}\n",
-                     d.feature, d.n_points, d.peak_um, d.mean_um, 2.0 * d.extent_mm, d.centre_mm.x(), d.centre_mm.y(),
-                     d.centre_mm.z(), fmt::join(d.lines, " "));
+  for (const auto& d : defects) o += "  local defect on " + PatchText(d) + "\n";
   if (points.empty()) return o;
   const bool left_out = points.front().left_out;
   o += fmt::format("{} point(s) {} by the outlier screen (noise from neighbours {:.3f} um):\n", points.size(),

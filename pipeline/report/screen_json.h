@@ -14,6 +14,9 @@ namespace tpcal::pipeline {
 nlohmann::ordered_json OutliersJson(const std::vector<ScreenedPoint>& points);
 nlohmann::ordered_json LocalDefectsJson(const std::vector<LocalDefect>& defects);
 
+// One patch as text: its points, peak, mean, span, centre (part frame, mm) and file lines.
+std::string PatchText(const LocalDefect& d);
+
 // Text lines: each patch, then the flagged points (at most 10 listed), with the noise sigma.
 std::string ScreenText(const std::vector<ScreenedPoint>& points, const std::vector<LocalDefect>& defects,
                        double sigma_um);
