@@ -14,6 +14,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include "pipeline/testing/turning_fixture.h"
 
@@ -28,6 +30,19 @@ ValidationOptions SmallInstrumentStudy(std::vector<std::string> families, int tr
   v.trials = trials;
   v.seed = 22;
   return v;
+}
+
+// The trials of a straightness withheld at 5x against `instrument` (`trials` at `seed`, on the
+// turning piece of the A/C table); empty, with a failure, when the study fails.
+std::vector<ValidationTrial> StraightnessAt5x(const InstrumentValidationOptions& instrument, int trials,
+                                              std::uint64_t seed) {
+  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
+  ValidationOptions v = SmallInstrumentStudy({"linear_straightness"}, trials);
+  v.magnitudes = {5.0};
+  v.seed = seed;
+  auto s = RunInstrumentValidation(setup, v, instrument);
+  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  return s.ok() ? s->trials : std::vector<ValidationTrial>{};
 }
 
 int NoneAlarms(const ValidationSummary& s) {
@@ -97,14 +112,8 @@ TEST(InstrumentValidation, ProbingTestOfArtifactsIsTheReference) {
 // (seed 4, 8 trials; before, one read local_defect and 6 straightness; the CLI's 100-trial run,
 // README: 6 local_defect of 100 before, 1 after). No trial may read local_defect.
 TEST(InstrumentValidation, StraightnessLeftOnOneFeatureIsNotALocalDefect) {
-  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
-  ValidationOptions v = SmallInstrumentStudy({"linear_straightness"}, 8);
-  v.magnitudes = {5.0};
-  v.seed = 4;
-  auto s = RunInstrumentValidation(setup, v, {.instrument = "probe_artifacts", .noise_um = 0.05});
-  ASSERT_TRUE(s.ok()) << s.status().ToString();
   int straightness = 0;
-  for (const ValidationTrial& t : s->trials) {
+  for (const ValidationTrial& t : StraightnessAt5x({.instrument = "probe_artifacts", .noise_um = 0.05}, 8, 4)) {
     EXPECT_NE(t.verdict, "local_defect") << t.true_detail;
     straightness += t.verdict == "linear_straightness";
   }
@@ -118,14 +127,9 @@ TEST(InstrumentValidation, StraightnessLeftOnOneFeatureIsNotALocalDefect) {
 // `--reference-instrument datum_ball --families linear_straightness --trials 20 --magnitudes 5
 // --seed 1`: 89 % of the observable; 79 % without those candidates, 15 named).
 TEST(InstrumentValidation, AStraightnessOfOneAxisIsNotReadAsChangedLocationErrors) {
-  const LoadedPiece setup{test_support::AcTable(), test_support::Turning()};
-  ValidationOptions v = SmallInstrumentStudy({"linear_straightness"}, 20);
-  v.magnitudes = {5.0};
-  v.seed = 1;
-  auto s = RunInstrumentValidation(setup, v, {.instrument = "datum_ball", .noise_um = 0.5});
-  ASSERT_TRUE(s.ok()) << s.status().ToString();
   int straightness = 0;
-  for (const ValidationTrial& t : s->trials) straightness += t.verdict == "linear_straightness";
+  for (const ValidationTrial& t : StraightnessAt5x({.instrument = "datum_ball", .noise_um = 0.5}, 20, 1))
+    straightness += t.verdict == "linear_straightness";
   EXPECT_GE(straightness, 17);
 }
 
