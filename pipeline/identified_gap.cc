@@ -8,19 +8,10 @@ Result<DiagnosisResult> DiagnoseIdentified(const testpieces::TestPiece& piece, c
                                            const IdentifyStageResult& stage, const PointSet& measured,
                                            DiagnosisOptions options) {
   options.base_parameters = stage.parameters;
-  DiagnosisOptions whole = options;
-  options.nominal_slot_design = stage.nominal_slot_design;
-  options.prior_outliers = stage.outliers;
-  options.prior_local_defects = stage.local_defects;
-  auto d = DiagnoseObservations(piece, machine, stage.observations, options);
+  const bool left_out = stage.unscreened_observations.has_value();
+  options.nominal_slot_design = left_out ? stage.unscreened_slot_design : stage.nominal_slot_design;
+  auto d = DiagnoseObservations(piece, machine, left_out ? *stage.unscreened_observations : stage.observations, options);
   if (!d.ok()) return d.status();
-  if (d->verdict.family == "local_defect" && stage.unscreened_observations) {
-    // The stage's screen left the patches out with no effect in the model: the diagnosis of every
-    // point screens again and names the effect whose model leaves no patch, as `tpcal diagnose` does.
-    whole.nominal_slot_design = stage.unscreened_slot_design;
-    auto again = DiagnoseObservations(piece, machine, *stage.unscreened_observations, whole);
-    if (again.ok() && !again->explained_patches.empty()) d = std::move(again);
-  }
   AttachSourceLines(measured, &*d);
   return std::move(*d);
 }

@@ -58,7 +58,8 @@ struct IdentifyStageResult {
   double neighbour_sigma_um = 0.0;
   double neighbour_sigma_dof = 0.0;  // its effective degrees of freedom (OutlierScreen::sigma_dof)
   // Set only when the screen left points out: every observation before it and their nominal slot
-  // design, for a diagnosis that screens again with an effect in the model (DiagnoseIdentified).
+  // design, for the diagnosis, which screens them again with an effect in the model
+  // (DiagnoseIdentified).
   std::optional<testpieces::MeasuredObservations> unscreened_observations;
   std::shared_ptr<const kinematics::SlotDesign> unscreened_slot_design;
 };

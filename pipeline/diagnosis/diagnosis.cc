@@ -141,14 +141,13 @@ bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
 // model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
 // catalogue whose model leaves no patch to flag (the screen run again with it), that effect
 // explains the patches: the diagnosis of what that screen keeps, local_defect named
-// indistinguishable. Else `first`: also when the screen leaves nothing out (--keep-outliers) or
-// the patches came from an earlier screen (their points are not in `mo`: DiagnoseIdentified).
+// indistinguishable. Else `first`: also when the screen leaves nothing out (--keep-outliers).
 Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                       const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
                                       const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
                                       const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
   namespace step = diagnosis_internal;
-  if (!options.screen_outliers || !options.prior_local_defects.empty() || !PatchesOnBothSides(first.local_defects))
+  if (!options.screen_outliers || !PatchesOnBothSides(first.local_defects))
     return first;
   DiagnosisOptions keep = options;
   keep.screen_outliers = false;

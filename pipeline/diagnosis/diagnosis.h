@@ -150,10 +150,6 @@ struct DiagnosisOptions {
   // false keeps every point (they are still found and listed, marked kept).
   bool screen_outliers = true;
   OutlierScreenOptions screen;
-  // Points an earlier screen left out of the observations (the identification stage's, in tpcal
-  // run): listed first and weighed by the verdict as the diagnosis's own.
-  std::vector<ScreenedPoint> prior_outliers;
-  std::vector<LocalDefect> prior_local_defects;
   Status Validate() const;
 };
 

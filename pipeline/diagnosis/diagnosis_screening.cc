@@ -12,7 +12,6 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
                             const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
                             const Eigen::MatrixXd* effect) {
   ScreenedInput in;
-  in.options_given = &options;
   OutlierScreenOptions screen = options.screen;
   screen.min_sigma_um = std::max(screen.min_sigma_um, options.noise_um);
   if (effect) {
@@ -40,8 +39,6 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
 
 void ReportScreen(const ScreenedInput& in, const testpieces::MeasuredObservations& mo, DiagnosisResult* out) {
   out->neighbour_sigma_um = in.screen.sigma_um;
-  out->outliers = in.options_given->prior_outliers;
-  out->local_defects = in.options_given->prior_local_defects;
   ListFlagged(in.screen, mo, in.left_out, &out->outliers, &out->local_defects);
 }
 

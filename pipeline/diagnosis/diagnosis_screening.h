@@ -19,7 +19,6 @@ struct ScreenedInput {
   testpieces::MeasuredObservations observations;        // the kept observations
   Eigen::VectorXd reference_dev_um;                     // their point-reference deviations (if any)
   DiagnosisOptions options;                             // nominal_slot_design: its kept rows, or none
-  const DiagnosisOptions* options_given = nullptr;      // the caller's
 };
 
 // The screen of `fit` (the base fitted to every observation of `mo`); with options.screen_outliers
