@@ -20,9 +20,9 @@ using test_support::Turning;
 // straightness E_ZY withheld) whose straightness the outlier screen, with no effect in the model,
 // flags as two patches on B_R on both sides of the model (lines 30-31 and 34-37). Truth: the
 // straightness. `tpcal diagnose` names it (the screen with the straightness in the model flags
-// nothing); the identification left the patches out first, and its gap diagnosis read
-// local_defect until it diagnosed every point again (`tpcal run` and `tpcal identify`). Both
-// now name the straightness, local_defect indistinguishable, and list the patches they explain.
+// nothing); the identification leaves the patches out first, and its gap diagnosis (`tpcal run`,
+// `tpcal identify`) read local_defect while it was handed only the points the identification
+// kept. Both now name the straightness, local_defect indistinguishable, and list the patches.
 TEST(IdentifiedGap, PatchesAStraightnessExplainsAreNamedAsItInRun) {
   auto points = ReadPoints(std::string(TPCAL_SOURCE_DIR) + "/tests/data/points/straightness_patches_on_b_r.csv");
   ASSERT_TRUE(points.ok()) << points.status().ToString();

@@ -121,6 +121,8 @@ RunReport ReportOf(const RunResult& r) {
                    .scan_cells = std::nullopt,
                    .inspection = &r.stage.inspection,
                    .identification = &r.stage.identification,
+                   .identification_outliers = &r.stage.outliers,
+                   .identification_local_defects = &r.stage.local_defects,
                    .diagnosis = r.diagnosis ? &*r.diagnosis : nullptr,
                    .diagnosis_error = r.diagnosis ? std::string() : r.diagnosis_status.ToString(),
                    .truth = &r.truth,

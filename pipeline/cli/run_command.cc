@@ -58,6 +58,7 @@ int RunSingle(const RunArgs& a) {
   progress.Clear();
   if (!written.ok()) return ReportError(written);
   std::cout << pipeline::RunParameterTable(result->stage.identification)
+            << pipeline::IdentificationScreenLine(result->stage.outliers, result->stage.local_defects)
             << pipeline::GapDiagnosisLine(result->diagnosis, result->config.diagnose, result->diagnosis_status);
   std::string times;
   for (const auto& t : result->timings) times += fmt::format(" {} {:.3f}s", t.stage, t.seconds);

@@ -334,11 +334,11 @@ Result<std::vector<kinematics::ErrorSlot>> NominalDiagnosisSlots(const testpiece
                                                                  const kinematics::MachineModel& machine,
                                                                  const DiagnosisOptions& options);
 
-// Diagnosis of observations already in the nominal part frame (identify_stage.h).
 // Fills the source lines (from the point file the observations came from) of the result's
 // outliers, local defects and explained patches.
 void AttachSourceLines(const PointSet& measured, DiagnosisResult* result);
 
+// Diagnosis of observations already in the nominal part frame (identify_stage.h).
 Result<DiagnosisResult> DiagnoseObservations(const testpieces::TestPiece& piece,
                                              const kinematics::MachineModel& machine,
                                              const testpieces::MeasuredObservations& observations,

@@ -4,6 +4,7 @@
 #include "pipeline/report/fit_json.h"
 #include "pipeline/report/identification_blocks.h"
 #include "pipeline/report/json_util.h"
+#include "pipeline/report/screen_json.h"
 #include "pipeline/version.h"
 
 namespace tpcal::pipeline {
@@ -69,6 +70,10 @@ std::string RunReportJson(const RunReport& r) {
         {"fit", IdentificationFitJson(id)},
         {"alignment", RigidJson(id.alignment)}}},
       {"figures", std::move(figures)}};
+  if (!r.identification_outliers->empty()) {
+    out["identification"]["outliers"] = OutliersJson(*r.identification_outliers);
+    out["identification"]["local_defects"] = LocalDefectsJson(*r.identification_local_defects);
+  }
   if (r.scan_cells) {
     const ScanCellsSummary& c = *r.scan_cells;
     out["input"]["scan_cells"] = {{"num_points", c.num_points},

@@ -78,6 +78,9 @@ struct RunReport {
   std::optional<ScanCellsSummary> scan_cells;
   const gdt::InspectionResult* inspection = nullptr;               // never null
   const kinematics::IdentificationResult* identification = nullptr;  // never null
+  // The points the identification's outlier screen flagged (left out of it unless kept); never null.
+  const std::vector<ScreenedPoint>* identification_outliers = nullptr;
+  const std::vector<LocalDefect>* identification_local_defects = nullptr;
   const DiagnosisResult* diagnosis = nullptr;  // null: none made (diagnosis_error says why when asked)
   std::string diagnosis_error;
   const std::map<std::string, double>* truth = nullptr;  // never null; empty without a stated truth

@@ -37,6 +37,16 @@ std::string InstrumentAgreementLine(const std::optional<ReferenceAgreement>& agr
                      agreement->compared, names.empty() ? "" : names + ")");
 }
 
+std::string IdentificationScreenLine(const std::vector<ScreenedPoint>& flagged, const std::vector<LocalDefect>& patches) {
+  if (flagged.empty()) return "";
+  int in_patches = 0;
+  for (const auto& p : patches) in_patches += p.n_points;
+  return fmt::format("identification: {} point(s) {} by the outlier screen ({} in {} local defect(s); result.json: "
+                     "identification.outliers)\n",
+                     flagged.size(), flagged.front().left_out ? "left out" : "flagged and kept", in_patches,
+                     patches.size());
+}
+
 std::string GapDiagnosisLine(const std::optional<DiagnosisResult>& diagnosis, bool asked, const Status& why_not) {
   if (diagnosis)
     return fmt::format("gap diagnosis: {} ({}), shrink {:.1f} % (cross-validated {:.1f} %)\n", diagnosis->verdict.family,

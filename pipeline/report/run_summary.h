@@ -26,4 +26,8 @@ std::string InstrumentAgreementLine(const std::optional<ReferenceAgreement>& agr
 // "gap diagnosis: not made: WHY" when it was asked for, else "". Each line ends in a newline.
 std::string GapDiagnosisLine(const std::optional<DiagnosisResult>& diagnosis, bool asked, const Status& why_not);
 
+// "identification: N point(s) left out by the outlier screen (P in K local defect(s); ...)" (or
+// "flagged and kept" under --keep-outliers) when the identification's screen flagged any, else "".
+std::string IdentificationScreenLine(const std::vector<ScreenedPoint>& flagged, const std::vector<LocalDefect>& patches);
+
 }  // namespace tpcal::pipeline

@@ -31,6 +31,22 @@ TEST(RunSummary, ParameterRowsByUnitAndIdentifiability) {
             "rank 2 of 3, condition number 12.5; residual RMS 10.000 um -> 0.500 um\n");
 }
 
+// The identification's screen: nothing flagged, no line; 8 points of which 6 in 3 patches.
+TEST(RunSummary, IdentificationScreenLineCountsTheFlaggedPoints) {
+  EXPECT_EQ(IdentificationScreenLine({}, {}), "");
+  std::vector<ScreenedPoint> flagged(8, ScreenedPoint{.point_index = 0, .line = 0, .feature = "H1", .kind = "local_defect",
+                                                      .deviation_um = 2.0, .reason = "", .left_out = true});
+  LocalDefect two;
+  two.feature = "H1";
+  two.n_points = 2;
+  const std::vector<LocalDefect> patches(3, two);
+  EXPECT_EQ(IdentificationScreenLine(flagged, patches),
+            "identification: 8 point(s) left out by the outlier screen (6 in 3 local defect(s); result.json: "
+            "identification.outliers)\n");
+  flagged[0].left_out = false;
+  EXPECT_NE(IdentificationScreenLine(flagged, patches).find("flagged and kept"), std::string::npos);
+}
+
 TEST(RunSummary, GapDiagnosisLineMadeNotMadeAndNotAsked) {
   DiagnosisResult d;
   d.verdict.family = "thermal_drift";
