@@ -49,6 +49,16 @@ TEST(IdentifiedGap, PatchesAStraightnessExplainsAreNamedAsItInRun) {
   EXPECT_EQ(json["explained_patches"][1]["lines"], nlohmann::ordered_json({34, 35, 36, 37}));
   EXPECT_NE(DiagnosisText(*identified).find("a patch the screen flagged, explained by it (kept): B_R: 4 points"),
             std::string::npos);
+  // The HTML: the text report in its <pre> (each patch once) and a row of the screen table per
+  // patch; no bare text line outside an element.
+  const std::string html = DiagnosisHtml(*identified, "piece");
+  auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("a patch the screen flagged, explained by it (kept)"), 2u);
+  EXPECT_EQ(count("patch explained by the verdict (kept)</td>"), 2u);
 }
 
 }  // namespace

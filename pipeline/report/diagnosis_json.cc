@@ -260,7 +260,6 @@ std::string DiagnosisHtml(const DiagnosisResult& r, const std::string& title) {
     for (const auto& f : r.verdict.indistinguishable_from) o += " " + XmlEscape(f);
     o += "</p>\n";
   }
-  for (const auto& p : r.explained_patches) o += "  a patch the screen flagged, explained by it (kept): " + PatchText(p) + "\n";
   if (const auto same = SameFamilyAlternatives(r); !same.empty())
     o += "<p>Within its family, explained about as well by: " + XmlEscape(fmt::format("{}", fmt::join(same, "; "))) +
          "</p>\n";
