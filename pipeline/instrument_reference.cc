@@ -318,6 +318,8 @@ Result<DiagnosisResult> DiagnoseAgainstInstrument(const LoadedPiece& setup, cons
   agreement.instrument = ref.instrument;
   agreement.source = ref.source;
   agreement.reference_note = UpdateNote(*prior, *update, held);
+  agreement.piece_outliers = piece->outliers;
+  agreement.piece_local_defects = piece->local_defects;
   d->reference_agreement = std::move(agreement);
   return d;
 }

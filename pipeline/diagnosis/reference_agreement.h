@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "kinematics/identification.h"
+#include "pipeline/diagnosis/outlier_screen.h"
 
 namespace tpcal::pipeline {
 
@@ -39,6 +40,10 @@ struct ReferenceAgreement {
   // The reference the piece's gap is measured against: the instrument's errors updated by the
   // piece within the instrument's u (kinematics/prior_update.h), largest change named.
   std::string reference_note;
+  // The points the outlier screen of the piece's identification behind the rows flagged (its
+  // parameters are fitted without those left out), with their patches; empty when it flagged none.
+  std::vector<ScreenedPoint> piece_outliers;
+  std::vector<LocalDefect> piece_local_defects;
 };
 
 // The table. `instrument` and `piece` by parameter name (units must match: a mismatch is not
