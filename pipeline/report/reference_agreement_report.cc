@@ -26,9 +26,11 @@ std::string AgreementValueText(bool known, double value, double u) {
 std::string PieceScreenSentence(const ReferenceAgreement& a) {
   if (a.piece_outliers.empty()) return "";
   std::string features;
-  for (const LocalDefect& d : a.piece_local_defects) features += (features.empty() ? ": " : ", ") + d.feature;
   int in_patches = 0;
-  for (const LocalDefect& d : a.piece_local_defects) in_patches += d.n_points;
+  for (const LocalDefect& d : a.piece_local_defects) {
+    features += (features.empty() ? ": " : ", ") + d.feature;
+    in_patches += d.n_points;
+  }
   const bool left_out = a.piece_outliers.front().left_out;
   return fmt::format("the piece's values are fitted {} the {} point(s) its identification's outlier screen flagged "
                      "({} in {} local defect(s){}; JSON: reference_agreement.piece_outliers); the diagnosis screens "
@@ -85,7 +87,8 @@ std::string ReferenceAgreementHtml(const ReferenceAgreement& a) {
                   fmt::format(": {} of {} compared parameters disagree (two-sided p &lt; {:.3g}). ", a.disagreeing,
                               a.compared, a.p_threshold) +
                   "The gap is measured against " + XmlEscape(a.reference_note) + "." +
-                  (screen.empty() ? "" : " " + XmlEscape(screen) + ".") + "</p>\n<table><tr><th>parameter</th><th>unit</th><th>instrument</th><th>piece</th><th>z</th>"
+                  (screen.empty() ? "" : " " + XmlEscape(screen) + ".") +
+                  "</p>\n<table><tr><th>parameter</th><th>unit</th><th>instrument</th><th>piece</th><th>z</th>"
                   "<th></th></tr>\n";
   for (const AgreementRow& r : a.rows)
     o += fmt::format("<tr{}><td class=l>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td></tr>\n",
