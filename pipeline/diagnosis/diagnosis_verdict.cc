@@ -89,14 +89,16 @@ struct RunnerUp {
   double p = 1.0, f = 0.0;
 };
 
-// The runner-up: of the best significant candidates of the other families (not
-// indistinguishable from the verdict), the one that adds most beyond base + verdict (smallest
-// p, largest F: a forward-selection step).
-RunnerUp FindRunnerUp(const VerdictInputs& in, const Ranking& ranking, std::size_t v, const Verdict& verdict) {
+// The runner-up: of the candidates of the other families (not indistinguishable from the
+// verdict), the one that adds most beyond base + verdict (largest F: a forward-selection step).
+// Every candidate, not each family's best alone: what adds most beside the verdict need not be
+// what explains most alone, and alpha_each is already the level of one test among all candidates.
+RunnerUp FindRunnerUp(const VerdictInputs& in, std::size_t v, const Verdict& verdict) {
   const auto& results = in.scored.results;
   const auto& ind = verdict.indistinguishable_from;
   RunnerUp runner;
-  for (const auto& [family, k] : ranking.best_of_family) {
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const std::string& family = results[k].family;
     // Not only the candidates significant on their own: beside a strong verdict a second effect
     // is tested against a residual the verdict inflates (servo glitches beside a probe-radius error).
     if (!results[k].observable || family == results[v].family || std::find(ind.begin(), ind.end(), family) != ind.end())
@@ -244,7 +246,7 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   const std::size_t v = ranking.order.front();
   NameVerdict(in, ranking, v, out);
   AddAliases(in, v, out);
-  const RunnerUp runner = FindRunnerUp(in, ranking, v, out->verdict);
+  const RunnerUp runner = FindRunnerUp(in, v, out->verdict);
   if (runner.k && runner.p < in.scored.alpha_each) out->verdict.also = results[*runner.k].family;
   std::string why;
   const auto partner = PairPartner(in, ranking, v, runner, &why);
