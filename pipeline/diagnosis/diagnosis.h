@@ -253,7 +253,7 @@ struct Verdict {
   std::vector<std::string> partial;
 };
 
-// The verdict and the runner-up (the best significant candidate of another family) fitted
+// The verdict and the runner-up (the candidate of another family that adds most beyond it) fitted
 // together, when the top two are close: the pairwise ranking does not separate them by
 // prediction, or the runner-up still adds significantly beyond the verdict; or the pair a joint
 // search over two-family pairs found instead (diagnosis_pair_fit.h, BetterJointPair: then the
