@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "gdt/inspection.h"
@@ -137,37 +138,68 @@ bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
          std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um < 0; });
 }
 
-// When the screen's patches made the verdict local_defect and they lie on both sides of the
-// model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
-// catalogue whose model leaves no patch to flag (the screen run again with it), that effect
-// explains the patches: the diagnosis of what that screen keeps, local_defect named
-// indistinguishable. Else `first`: also when the screen leaves nothing out (--keep-outliers).
-Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
-                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+// The diagnosis of every point (the screen off): when it names an effect of the catalogue (a pair
+// if `needs_pair`) whose model (both of a pair) leaves no patch to flag, the screen run again with
+// that effect modelled, the diagnosis of what that screen keeps, with local_defect named
+// indistinguishable and `first`'s patches as explained_patches, if its verdict is the whole
+// diagnosis's. Else nullopt.
+std::optional<DiagnosisResult> PatchesExplained(const testpieces::TestPiece& piece,
+                                                const kinematics::MachineModel& machine,
+                                                const testpieces::MeasuredObservations& mo,
+                                                const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
+                                                const std::vector<std::string>& base_names,
+                                                const diagnosis_internal::BaseFit& fit, const DiagnosisResult& first,
+                                                bool needs_pair) {
   namespace step = diagnosis_internal;
-  if (!options.screen_outliers || !PatchesOnBothSides(first.local_defects))
-    return first;
   DiagnosisOptions keep = options;
   keep.screen_outliers = false;
   const step::ScreenedInput kept = step::ScreenBaseFit(fit, mo, keep, reference_dev_um);
   auto whole = DiagnoseKept(piece, machine, mo, keep, reference_dev_um, base_names, fit, kept);
-  if (!whole.ok() || !IsCatalogueFamily(whole->verdict.family)) return first;
+  if (!whole.ok() || !IsCatalogueFamily(whole->verdict.family) || (needs_pair && !whole->verdict.also))
+    return std::nullopt;
   const bool reference_mode = options.reference.has_value() || reference_dev_um != nullptr;
   auto all = BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get());
-  if (!all.ok()) return first;
+  if (!all.ok()) return std::nullopt;
   const auto effect = VerdictColumns(*all, *whole);
-  if (!effect) return first;
+  if (!effect) return std::nullopt;
   const step::ScreenedInput again = step::ScreenBaseFit(fit, mo, options, reference_dev_um, &*effect);
-  if (!again.screen.patches.empty()) return first;
+  if (!again.screen.patches.empty()) return std::nullopt;
   auto d = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, fit, again);
-  if (!d.ok() || d->verdict.family != whole->verdict.family) return first;
+  if (!d.ok() || d->verdict.family != whole->verdict.family) return std::nullopt;
   auto& alike = d->verdict.indistinguishable_from;
   alike.push_back("local_defect");
   std::sort(alike.begin(), alike.end());
-  d->explained_patches = std::move(first.local_defects);
-  return d;
+  d->explained_patches = first.local_defects;
+  return std::move(*d);
+}
+
+// When the screen's patches made the verdict local_defect and they lie on both sides of the
+// model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
+// catalogue whose model leaves no patch to flag, that effect explains the patches
+// (PatchesExplained). Else `first`: also when the screen leaves nothing out (--keep-outliers).
+Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
+                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
+                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+  if (!options.screen_outliers || !PatchesOnBothSides(first.local_defects)) return first;
+  auto d = PatchesExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false);
+  return d ? std::move(*d) : std::move(first);
+}
+
+// When the verdict names one effect of the catalogue beside local defects: a second effect the
+// verdict's model leaves on a few features is flagged as patches, and leaving them out takes its
+// evidence away. If the diagnosis of every point names a pair whose model leaves no patch to flag,
+// the pair explains the patches (PatchesExplained). Else `first`.
+Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                            const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
+                                            const Eigen::VectorXd* reference_dev_um,
+                                            const std::vector<std::string>& base_names,
+                                            const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+  if (!options.screen_outliers || first.local_defects.empty() || !IsCatalogueFamily(first.verdict.family) ||
+      first.verdict.also)
+    return first;
+  auto d = PatchesExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, true);
+  return d && d->verdict.also ? std::move(*d) : std::move(first);
 }
 
 // The diagnosis (diagnosis.h): the base fitted to every point, the outlier screen, then the
@@ -176,6 +208,7 @@ Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const 
 // verdict names: a servo glitch beside a drift is an outlier to the drift alone; on a piece of
 // 8-point circles a 3-lobe error motion looks point by point like isolated faults; only the model
 // of the whole piece tells): if it flags other points, the diagnosis is made again on what it keeps.
+// A verdict of one effect beside local defects then gets PatchAsSecondEffect's check.
 // `reference_dev_um` (per observation, or null): the point reference's normal deviations,
 // subtracted from the measured ones (DiagnoseAgainstPoints).
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
@@ -203,8 +236,11 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   const auto effect = VerdictColumns(*all, *first);
   if (!effect) return first;
   const step::ScreenedInput again = step::ScreenBaseFit(*fit, mo, options, reference_dev_um, &*effect);
-  if (again.screen.flag == screened.screen.flag) return first;
-  return DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, again);
+  if (again.screen.flag == screened.screen.flag)
+    return PatchAsSecondEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
+  auto second = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, again);
+  if (!second.ok()) return second;
+  return PatchAsSecondEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*second));
 }
 
 // Labelled points of `points` (any placement) as observations in the nominal part frame (datum
