@@ -111,18 +111,25 @@ RunnerUp FindRunnerUp(const VerdictInputs& in, std::size_t v, const Verdict& ver
 }
 
 // A second effect that is not significant on its own is named only when the pair also predicts
-// better, cross-validated: at most 90 % of the verdict's held-out mean square is left (a model
-// mismatch of the verdict's effect, taken up in sample by another family, does not pass).
-constexpr double kPairCvMeanSquareRatio = 0.9;
-
-bool PairPredictsBetter(const std::optional<PairFit>& pair, const CandidateResult& verdict) {
+// better, cross-validated: at most `ratio` of the verdict's held-out mean square is left
+// (PairCvMeanSquareRatio).
+bool PairPredictsBetter(const std::optional<PairFit>& pair, const CandidateResult& verdict, double ratio) {
   if (!pair) return false;
   // The verdict's held-out RMS by the pair's method (leave-one-feature-out, or PRESS); a pair
   // held out by features beside a verdict held out by points has no common figure: named.
   const bool pair_by_features = pair->cv_method == "leave-one-feature-out";
   if (pair_by_features && verdict.cv_method != "leave-one-feature-out") return true;
   const double alone = pair_by_features ? verdict.cv_rms_after_um : verdict.press_rms_after_um;
-  return pair->cv_rms_after_um * pair->cv_rms_after_um <= kPairCvMeanSquareRatio * alone * alone;
+  return pair->cv_rms_after_um * pair->cv_rms_after_um <= ratio * alone * alone;
+}
+
+// The share of the verdict's held-out mean square the pair may leave: 90 %, so that a model
+// mismatch of the verdict's effect, taken up in sample by another family, does not pass; 100 %
+// (any held-out gain) when the runner-up's test beyond the verdict passes at alpha_each squared.
+// On the turning piece at 5x, second effects that add with p ~ 1e-7 to 1e-14 (a scale error beside
+// an angular positioning of C, a straightness beside a tilt motion of C) left 92-96 % of it.
+double PairCvMeanSquareRatio(const VerdictInputs& in, const RunnerUp& runner) {
+  return runner.k && runner.p < in.scored.alpha_each * in.scored.alpha_each ? 1.0 : 0.9;
 }
 
 // The candidate fitted jointly with the verdict, and why, when the two are close: the runner-up
@@ -251,7 +258,8 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
   std::string why;
   const auto partner = PairPartner(in, ranking, v, runner, &why);
   if (partner) out->pair = FitPair(in, v, *partner, why);
-  if (out->verdict.also && !results[*runner.k].significant && !PairPredictsBetter(out->pair, results[v]))
+  if (out->verdict.also && !results[*runner.k].significant &&
+      !PairPredictsBetter(out->pair, results[v], PairCvMeanSquareRatio(in, runner)))
     out->verdict.also.reset();
   const std::size_t lead = SearchPair(in, ranking, v, partner, out);
   NameIndistinguishableCandidates(in, ranking, lead, out);
