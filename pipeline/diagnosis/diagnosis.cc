@@ -138,18 +138,21 @@ bool PatchesOnBothSides(const std::vector<LocalDefect>& patches) {
          std::any_of(patches.begin(), patches.end(), [](const LocalDefect& p) { return p.peak_um < 0; });
 }
 
+// What the screen flagged that an effect may explain: its patches, or every flag (outliers too).
+enum class Flagged { kPatches, kEveryFlag };
+
 // The diagnosis of every point (the screen off): when it names an effect of the catalogue (a pair
-// if `needs_pair`) whose model (both of a pair) leaves no patch to flag, the screen run again with
-// that effect modelled, the diagnosis of what that screen keeps, with local_defect named
-// indistinguishable and `first`'s patches as explained_patches, if its verdict is the whole
-// diagnosis's. Else nullopt.
-std::optional<DiagnosisResult> PatchesExplained(const testpieces::TestPiece& piece,
-                                                const kinematics::MachineModel& machine,
-                                                const testpieces::MeasuredObservations& mo,
-                                                const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
-                                                const std::vector<std::string>& base_names,
-                                                const diagnosis_internal::BaseFit& fit, const DiagnosisResult& first,
-                                                bool needs_pair) {
+// if `needs_pair`) whose model (both of a pair) leaves no patch (kEveryFlag: no point) to flag,
+// the screen run again with that effect modelled, the diagnosis of what that screen keeps, if its
+// verdict is the whole diagnosis's; for kPatches with local_defect named indistinguishable and
+// `first`'s patches as explained_patches. Else nullopt.
+std::optional<DiagnosisResult> FlagsExplained(const testpieces::TestPiece& piece,
+                                              const kinematics::MachineModel& machine,
+                                              const testpieces::MeasuredObservations& mo,
+                                              const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
+                                              const std::vector<std::string>& base_names,
+                                              const diagnosis_internal::BaseFit& fit, const DiagnosisResult& first,
+                                              bool needs_pair, Flagged flagged) {
   namespace step = diagnosis_internal;
   DiagnosisOptions keep = options;
   keep.screen_outliers = false;
@@ -163,9 +166,11 @@ std::optional<DiagnosisResult> PatchesExplained(const testpieces::TestPiece& pie
   const auto effect = VerdictColumns(*all, *whole);
   if (!effect) return std::nullopt;
   const step::ScreenedInput again = step::ScreenBaseFit(fit, mo, options, reference_dev_um, &*effect);
-  if (!again.screen.patches.empty()) return std::nullopt;
+  if (!again.screen.patches.empty() || (flagged == Flagged::kEveryFlag && again.screen.CountFlagged() > 0))
+    return std::nullopt;
   auto d = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, fit, again);
   if (!d.ok() || d->verdict.family != whole->verdict.family) return std::nullopt;
+  if (flagged == Flagged::kEveryFlag) return std::move(*d);
   auto& alike = d->verdict.indistinguishable_from;
   alike.push_back("local_defect");
   std::sort(alike.begin(), alike.end());
@@ -176,20 +181,20 @@ std::optional<DiagnosisResult> PatchesExplained(const testpieces::TestPiece& pie
 // When the screen's patches made the verdict local_defect and they lie on both sides of the
 // model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
 // catalogue whose model leaves no patch to flag, that effect explains the patches
-// (PatchesExplained). Else `first`: also when the screen leaves nothing out (--keep-outliers).
+// (FlagsExplained). Else `first`: also when the screen leaves nothing out (--keep-outliers).
 Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                       const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
                                       const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
                                       const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
   if (!options.screen_outliers || !PatchesOnBothSides(first.local_defects)) return first;
-  auto d = PatchesExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false);
+  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false, Flagged::kPatches);
   return d ? std::move(*d) : std::move(first);
 }
 
 // When the verdict names one effect of the catalogue beside local defects: a second effect the
 // verdict's model leaves on a few features is flagged as patches, and leaving them out takes its
 // evidence away. If the diagnosis of every point names a pair whose model leaves no patch to flag,
-// the pair explains the patches (PatchesExplained). Else `first`.
+// the pair explains the patches (FlagsExplained). Else `first`.
 Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
                                             const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
                                             const Eigen::VectorXd* reference_dev_um,
@@ -198,8 +203,22 @@ Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, 
   if (!options.screen_outliers || first.local_defects.empty() || !IsCatalogueFamily(first.verdict.family) ||
       first.verdict.also)
     return first;
-  auto d = PatchesExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, true);
+  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, true, Flagged::kPatches);
   return d && d->verdict.also ? std::move(*d) : std::move(first);
+}
+
+// When the verdict is none with points left out: an effect whose signature peaks on a few points
+// (a Z drift of the table on one point of each of four shoulder faces, 5-6 um beside 0.5 um of
+// noise) is flagged there point by point, and leaving them out takes its evidence away. If the
+// diagnosis of every point names an effect of the catalogue whose model leaves no point to flag,
+// that effect explains them (FlagsExplained). Else `first`.
+Result<DiagnosisResult> FlagsAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
+                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
+                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+  if (!options.screen_outliers || first.verdict.family != "none" || first.outliers.empty()) return first;
+  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false, Flagged::kEveryFlag);
+  return d ? std::move(*d) : std::move(first);
 }
 
 // The diagnosis (diagnosis.h): the base fitted to every point, the outlier screen, then the
@@ -208,7 +227,8 @@ Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, 
 // verdict names: a servo glitch beside a drift is an outlier to the drift alone; on a piece of
 // 8-point circles a 3-lobe error motion looks point by point like isolated faults; only the model
 // of the whole piece tells): if it flags other points, the diagnosis is made again on what it keeps.
-// A verdict of one effect beside local defects then gets PatchAsSecondEffect's check.
+// A verdict of one effect beside local defects then gets PatchAsSecondEffect's check; a verdict
+// of local defects PatchAsEffect's, and none with points left out FlagsAsEffect's.
 // `reference_dev_um` (per observation, or null): the point reference's normal deviations,
 // subtracted from the measured ones (DiagnoseAgainstPoints).
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
@@ -230,6 +250,8 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   auto first = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, screened);
   if (first.ok() && first->verdict.family == "local_defect")
     return PatchAsEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
+  if (first.ok() && first->verdict.family == "none")
+    return FlagsAsEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
   if (!first.ok() || !screened.left_out || !IsCatalogueFamily(first->verdict.family)) return first;
   auto all = BuildCandidates(piece, machine, fit->errors, mo, base_names, reference_mode, fit->design.get());
   if (!all.ok()) return all.status();

@@ -146,8 +146,10 @@ struct DiagnosisOptions {
   // says which slots it needs). Used for the first linearisation when it holds every slot needed
   // and the base is not a reference; otherwise the diagnosis makes its own.
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
-  // Outliers and local defects (outlier_screen.h) are left out before the base fit and listed;
-  // false keeps every point (they are still found and listed, marked kept).
+  // Outliers and local defects (outlier_screen.h) are left out before the base fit and listed,
+  // unless an effect of the catalogue whose model leaves them nothing to flag explains them (the
+  // diagnosis of every point, diagnosis.cc); false keeps every point (they are still found and
+  // listed, marked kept).
   bool screen_outliers = true;
   OutlierScreenOptions screen;
   Status Validate() const;
