@@ -26,19 +26,20 @@ ctest --test-dir build --output-on-failure -j "$JOBS" --timeout 900
 stage "sanitizer build"
 cmake -S . -B build-asan -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
   -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
-  -DTPCAL_SANITIZE=ON -DTPCAL_BUILD_BENCH=OFF -DTPCAL_UNITY_BUILD=ON
+  -DTPCAL_SANITIZE=ON -DTPCAL_BUILD_BENCH=OFF -DTPCAL_UNITY_BUILD=ON -DTPCAL_TEST_SHARDS=4
 cmake --build build-asan -j "$JOBS" --target core_tests fitting_tests gdt_tests kinematics_tests testpieces_tests \
   gcode_tests io_tests diagnosis_tests report_tests pipeline_tests fuzz_targets
 # Leaks inside OpenCASCADE's own libraries are suppressed (tests/sanitizers/lsan.supp says why).
-# The long unit tests of tests/sanitizers/long_tests.txt (studies of many simulated pieces, the
-# 100-file batch) ran in the Release stage above; here their code paths are covered by the
-# short tests of the same suites.
+# Each unit-test binary runs as 4 gtest shards (TPCAL_TEST_SHARDS, cmake/tpcal.cmake: a process
+# per test cost more than most tests), without the long unit tests of tests/sanitizers/long_tests.txt
+# (studies of many simulated pieces, the 100-file batch): they ran in the Release stage above, and
+# here their code paths are covered by the short tests of the same suites. A failing shard's output
+# names its test.
 stage "sanitizer tests"
-LONG_TESTS=$(grep -v '^#' tests/sanitizers/long_tests.txt | grep -v '^[[:space:]]*$' | paste -sd'|')
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 LSAN_OPTIONS=suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure -j "$JOBS" -L unit -E "$LONG_TESTS" --timeout 1200
+  ctest --test-dir build-asan --output-on-failure -j "$JOBS" -L unit --timeout 1200
 # Every reader's libFuzzer target for FUZZ_SECONDS (20) from its seed corpus: a new reader cannot
 # land unfuzzed (README, "Fuzzing"). Findings fail the run; reproducers stay in build-asan/fuzz-smoke.
 # A fixed seed: a run's mutations are repeatable (the number of runs in 20 s still varies).
