@@ -124,7 +124,7 @@ endfunction()
 # under 2 s each, 385 s of its 748.
 set(TPCAL_TEST_SHARDS 0 CACHE STRING "Run each unit-test binary as this many gtest shards (0: one CTest test per test)")
 set_property(DIRECTORY ${PROJECT_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/tests/sanitizers/long_tests.txt)
+  ${PROJECT_SOURCE_DIR}/tests/sanitizers/long_tests.txt ${PROJECT_SOURCE_DIR}/tests/sanitizers/binary_seconds.txt)
 
 function(tpcal_add_test_shards name)
   file(STRINGS ${PROJECT_SOURCE_DIR}/tests/sanitizers/long_tests.txt long REGEX "^${name}/")
@@ -134,10 +134,16 @@ function(tpcal_add_test_shards name)
   if(skip)
     set(filter "*-${skip}")
   endif()
+  # The slowest binaries' shards first (tests/sanitizers/binary_seconds.txt says why).
+  file(STRINGS ${PROJECT_SOURCE_DIR}/tests/sanitizers/binary_seconds.txt seconds REGEX "^${name} +[0-9]+$")
+  list(TRANSFORM seconds REPLACE "^${name} +" "")
+  if(NOT seconds)
+    set(seconds 0)
+  endif()
   math(EXPR last "${TPCAL_TEST_SHARDS} - 1")
   foreach(i RANGE ${last})
     add_test(NAME ${name}/shard${i} COMMAND ${name}_tests --gtest_filter=${filter})
-    set_tests_properties(${name}/shard${i} PROPERTIES LABELS "unit;${name}"
+    set_tests_properties(${name}/shard${i} PROPERTIES LABELS "unit;${name}" COST ${seconds}
       ENVIRONMENT "GTEST_TOTAL_SHARDS=${TPCAL_TEST_SHARDS};GTEST_SHARD_INDEX=${i}")
   endforeach()
 endfunction()
