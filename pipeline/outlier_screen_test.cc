@@ -203,6 +203,28 @@ TEST(OutlierScreen, TaperingBurrOfTwoHitsIsALocalDefect) {
   EXPECT_EQ(without.flag[10], ScreenFlag::kOutlier);
 }
 
+// The screen alone on 400 hits as above (seed 188), at most 4 points to a patch (as a quarter of a
+// 16-point circle allows): a dent of 4 hits at 10 sigma whose two outer neighbours lie at 3.3 sigma
+// (beyond grow_z = 3: noise, or the pull of the dent on its feature's fitted terms). Truth: the
+// component of 6 is too large to be a patch, but its core (the hits of at least half its peak) is
+// one: the dent is a local defect of its 4 hits and the neighbours are kept. Before the core rule
+// nothing was flagged, and such dents on the turning piece's 16-point circles read as an effect.
+TEST(OutlierScreen, ADentWhoseNeighboursStandOutIsItsCore) {
+  auto [obs, y, X] = HitsAlongALine(188);
+  const double sigma = ScreenOutliers(X, y, obs, {}).sigma_um;
+  y(39) = y(44) = 3.3 * sigma;
+  for (int i = 40; i < 44; ++i) y(i) = 10.0 * sigma;
+  OutlierScreenOptions o;
+  o.max_patch_points = 4;
+  const OutlierScreen s = ScreenOutliers(X, y, obs, o);
+  ASSERT_NEAR(s.sigma_um, sigma, 0.03 * sigma);  // so that 3.3 stays beyond grow_z
+  ASSERT_EQ(s.patches.size(), 1u);
+  EXPECT_EQ(s.patches.front().members, (std::vector<int>{40, 41, 42, 43}));
+  EXPECT_EQ(s.flag[39], ScreenFlag::kKept);
+  EXPECT_EQ(s.flag[44], ScreenFlag::kKept);
+  EXPECT_EQ(s.CountFlagged(), 4);
+}
+
 // The screen with a reference's leftover uncertainty (its factor R, as against a probing test's
 // maps): 400 hits as above (seed 187), a bump of 4 and 4 sigma on hits 40 and 41 (sum / sqrt 2 =
 // 5.7 sigma: a local defect against the noise alone), where the reference may move both together

@@ -144,24 +144,79 @@ double ReferenceDepartureVariance(const ScreenContext& c, int i) {
   return (c.R.row(i) - around).squaredNorm();
 }
 
+// A component's departure in units of its standard deviation: |sum of r| / sqrt(m) over sigma, with
+// what a reference's leftover uncertainty adds (|r| / sigma for one point without one).
+double FaultZ(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
+  double sum = 0.0;
+  for (int i : comp) sum += s.residual_um(i);
+  const double m = static_cast<double>(comp.size()), s2 = s.sigma_um * s.sigma_um;
+  return std::abs(sum) / (std::sqrt(m) * s.sigma_um * std::sqrt(1.0 + ReferenceVariance(c, comp) / (m * s2)));
+}
+
+// The most points a patch of comp's feature may hold: max_patch_points and max_patch_share of them.
+double MaxPatchSize(const ScreenContext& c, const std::vector<int>& comp) {
+  const int n_g = c.group_size.at(c.obs[static_cast<std::size_t>(comp.front())].group);
+  return std::min<double>(c.o.max_patch_points, c.o.max_patch_share * n_g);
+}
+
 // Is a component a fault (an isolated outlier or a small patch) rather than systematic? Its
-// bounds are seed_z sigma, scaled by what a reference's leftover uncertainty adds (exactly 1
-// without one).
+// FaultZ beyond seed_z, and one point's departure from its neighbours too (scaled alike).
 bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
   const int n_g = c.group_size.at(c.obs[static_cast<std::size_t>(comp.front())].group);
   if (n_g < 3) return false;
-  const double limit = c.o.seed_z * s.sigma_um, s2 = s.sigma_um * s.sigma_um;
   if (comp.size() == 1) {
     const int i = comp.front();
-    const double v = MedianVariance(c.nb[static_cast<std::size_t>(i)].size());
-    return std::abs(s.residual_um(i)) > limit * std::sqrt(1.0 + ReferenceVariance(c, comp) / s2) &&
-           std::abs(s.neighbour_dev_um(i)) > limit * std::sqrt(1.0 + v + ReferenceDepartureVariance(c, i) / s2);
+    const double v = MedianVariance(c.nb[static_cast<std::size_t>(i)].size()), s2 = s.sigma_um * s.sigma_um;
+    return FaultZ(c, s, comp) > c.o.seed_z &&
+           std::abs(s.neighbour_dev_um(i)) > c.o.seed_z * s.sigma_um * std::sqrt(1.0 + v + ReferenceDepartureVariance(c, i) / s2);
   }
-  double sum = 0.0;
-  for (int i : comp) sum += s.residual_um(i);
-  const double m = static_cast<double>(comp.size());
-  return static_cast<int>(comp.size()) <= c.o.max_patch_points && m <= c.o.max_patch_share * n_g &&
-         std::abs(sum) / std::sqrt(m) > limit * std::sqrt(1.0 + ReferenceVariance(c, comp) / (m * s2));
+  return static_cast<double>(comp.size()) <= MaxPatchSize(c, comp) && FaultZ(c, s, comp) > c.o.seed_z;
+}
+
+// The members of `comp` connected to its peak through members of at least join_ratio of the
+// peak's |r|: a patch that its neighbours' pull, or noise beyond grow_z, made too large to be a
+// fault (NewFaults asks only of components at most twice a patch's size: a larger one is systematic,
+// and peeling its cores round after round would take a whole error motion away).
+std::vector<int> Core(const ScreenContext& c, const Eigen::VectorXd& r, const std::vector<int>& comp) {
+  int peak = comp.front();
+  for (int i : comp)
+    if (std::abs(r(i)) > std::abs(r(peak))) peak = i;
+  std::vector<bool> in(static_cast<std::size_t>(r.size()), false);
+  for (int i : comp) in[static_cast<std::size_t>(i)] = std::abs(r(i)) >= c.o.join_ratio * std::abs(r(peak));
+  auto parts = Components(r, c.adj, [&](int i) { return i == peak; }, [&](int b, int) { return static_cast<bool>(in[static_cast<std::size_t>(b)]); });
+  return parts.front();
+}
+
+// Whether every member of comp outside its core lies within seed_z sigma: the rim of a dent
+// (neighbours just beyond grow_z), not the flanks of a smooth error (a lobe's flanks of a
+// noise-free error motion reach far beyond seed_z).
+bool WeakRim(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp, const std::vector<int>& core) {
+  for (int i : comp)
+    if (std::find(core.begin(), core.end(), i) == core.end() && std::abs(s.residual_um(i)) > c.o.seed_z * s.sigma_um)
+      return false;
+  return true;
+}
+
+// How many flagged points of comp's sign are connected to it: a component that would grow a
+// flagged patch beyond a patch's size is the rest of something systematic whose core was flagged
+// (Core), not a fault of its own.
+std::size_t FlaggedBeside(const ScreenContext& c, const Eigen::VectorXd& r, const std::vector<int>& comp,
+                          const std::vector<bool>& flagged) {
+  std::vector<bool> seen(flagged.size(), false);
+  std::deque<int> todo(comp.begin(), comp.end());
+  for (int i : comp) seen[static_cast<std::size_t>(i)] = true;
+  std::size_t count = 0;
+  while (!todo.empty()) {
+    const int a = todo.front();
+    todo.pop_front();
+    for (int b : c.adj[static_cast<std::size_t>(a)])
+      if (!seen[static_cast<std::size_t>(b)] && flagged[static_cast<std::size_t>(b)] && r(b) * r(comp.front()) > 0) {
+        seen[static_cast<std::size_t>(b)] = true;
+        ++count;
+        todo.push_back(b);
+      }
+  }
+  return count;
 }
 
 // The faults among the points not yet flagged, from this round's residuals.
@@ -174,15 +229,31 @@ std::vector<std::vector<int>> NewFaults(const ScreenContext& c, const OutlierScr
     return seeds(b) || (!flagged[static_cast<std::size_t>(b)] && rb > floor_um && rb >= c.o.join_ratio * std::abs(r(a)));
   };
   std::vector<std::vector<int>> out;
-  for (auto& comp : Components(r, c.adj, seeds, joins))
-    if (IsFault(c, s, comp)) out.push_back(std::move(comp));
+  auto grows_no_patch = [&](const std::vector<int>& f) {
+    return static_cast<double>(f.size() + FlaggedBeside(c, r, f, flagged)) <= MaxPatchSize(c, f);
+  };
+  for (auto& comp : Components(r, c.adj, seeds, joins)) {
+    if (IsFault(c, s, comp)) {
+      if (grows_no_patch(comp)) out.push_back(std::move(comp));
+    } else if (comp.size() > 1 && static_cast<double>(comp.size()) <= 2.0 * MaxPatchSize(c, comp)) {
+      std::vector<int> core = Core(c, r, comp);
+      if (core.size() < comp.size() && WeakRim(c, s, comp, core) && IsFault(c, s, core) && grows_no_patch(core))
+        out.push_back(std::move(core));
+    }
+  }
   return out;
 }
 
-double Peak(const Eigen::VectorXd& r, const std::vector<int>& comp) {
-  double p = 0.0;
-  for (int i : comp) p = std::max(p, std::abs(r(i)));
-  return p;
+// Worst first: of this round's faults, those within a factor 2 of the largest FaultZ, so that the
+// pull of a gross outlier on the fit is gone before its neighbours are judged.
+std::vector<const std::vector<int>*> WorstFaults(const ScreenContext& c, const OutlierScreen& s,
+                                                 const std::vector<std::vector<int>>& faults) {
+  double worst = 0.0;
+  for (const auto& f : faults) worst = std::max(worst, FaultZ(c, s, f));
+  std::vector<const std::vector<int>*> out;
+  for (const auto& f : faults)
+    if (FaultZ(c, s, f) >= 0.5 * worst) out.push_back(&f);
+  return out;
 }
 
 // The flagged points grouped (same-sign neighbours) into outliers and patches; a feature with more
@@ -252,8 +323,6 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
       if (std::find(back.begin(), back.end(), static_cast<int>(i)) == back.end()) back.push_back(static_cast<int>(i));
     }
   for (const auto& o : observations) ++c.group_size[o.group];
-  // Worst first: each round flags the faults within a factor 2 of the largest, then refits, so
-  // that the pull of a gross outlier on the fit is gone before its neighbours are judged.
   const Eigen::MatrixXd Q = OrthonormalColumns(X);
   OutlierScreen s;
   std::vector<bool> flagged(observations.size(), false);
@@ -265,11 +334,8 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
     if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
     const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
     if (faults.empty()) break;
-    double worst = 0.0;
-    for (const auto& f : faults) worst = std::max(worst, Peak(s.residual_um, f));
-    for (const auto& f : faults)
-      if (Peak(s.residual_um, f) >= 0.5 * worst)
-        for (int i : f) flagged[static_cast<std::size_t>(i)] = true;
+    for (const auto* f : WorstFaults(c, s, faults))
+      for (int i : *f) flagged[static_cast<std::size_t>(i)] = true;
   }
   s.flag.assign(observations.size(), ScreenFlag::kKept);
   if (s.sigma_um > 0 && FinalFlags(c, flagged, &s)) {

@@ -14,10 +14,15 @@
 // and at least join_ratio of the member they touch: a tapering patch). One point is an outlier when
 // |r_i| and its departure from its neighbours |d_i| / sqrt(1 + v_k) both exceed seed_z sigma;
 // 2 to max_patch_points points holding at most max_patch_share of their feature are a local
-// defect when |sum r| / sqrt(m) exceeds seed_z sigma; larger components are systematic and stay
-// (the diagnosis's business). Worst first: each round flags the faults within a factor 2 of the
-// largest and refits (a gross outlier's pull on the fit is gone before its neighbours are judged),
-// until no fault is left (at most 40 rounds). Finally the flagged points are grouped into
+// defect when |sum r| / sqrt(m) exceeds seed_z sigma; a larger component is systematic and stays
+// (the diagnosis's business) unless it is at most twice that size, its core (the members
+// connected to its peak through members of at least join_ratio of the peak) is such a patch and
+// the rest lies within seed_z sigma: a 4-hit dent whose neighbours noise or the dent's pull took
+// beyond grow_z, not a lobe of a smooth error. A fault that would grow a flagged patch of its sign
+// beyond a patch's size is not one (the rest of something systematic). Worst first: each round
+// flags the faults within a factor 2 of the largest z (|sum r| / sqrt(m) sigma) and refits (a
+// gross outlier's pull on the fit is gone before its neighbours are judged), until no fault is
+// left (at most 40 rounds). Finally the flagged points are grouped into
 // outliers and patches, and a feature with more groups than max(2, max_components_share x its
 // points) keeps all its points (an effect of short wavelength, not isolated faults).
 // Thresholds: at seed_z = 4.5 a clean point is flagged with probability 7e-6, a clean pair of
