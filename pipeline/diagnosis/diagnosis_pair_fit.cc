@@ -1,6 +1,6 @@
 #include "pipeline/diagnosis/diagnosis_pair_fit.h"
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -68,26 +68,63 @@ std::vector<std::size_t> PairPool(const VerdictInputs& in) {
   return pool;
 }
 
+// The products JointBic needs of a few candidates' directions off the base (ScoredCandidates::
+// bases, orthonormal): their Gram matrix and U^T r0 stacked, and |r0 - U U^T r0|^2 of each. One
+// n x P product for every pair of the pool, not an n-row SVD per pair (10^5 points: those SVDs
+// were a third of the diagnosis, perf).
+struct PairProducts {
+  std::map<std::size_t, std::pair<Eigen::Index, Eigen::Index>> cols;  // candidate -> first column, rank
+  Eigen::MatrixXd gram;
+  Eigen::VectorXd ur;
+  std::map<std::size_t, double> ssr_alone;
+};
+
+PairProducts MakePairProducts(const VerdictInputs& in, const std::vector<std::size_t>& ks) {
+  PairProducts p;
+  Eigen::Index total = 0;
+  for (std::size_t k : ks)
+    if (!p.cols.count(k)) p.cols[k] = {total, in.scored.bases[k].U.cols()}, total += in.scored.bases[k].U.cols();
+  const Eigen::VectorXd& r0 = in.gap.r;
+  Eigen::MatrixXd U(r0.size(), total);
+  for (const auto& [k, c] : p.cols) U.middleCols(c.first, c.second) = in.scored.bases[k].U;
+  p.gram.setZero(total, total);
+  if (total > 0 && U.rows() > 0) p.gram.selfadjointView<Eigen::Lower>().rankUpdate(U.transpose());
+  p.gram = p.gram.selfadjointView<Eigen::Lower>();
+  p.ur = U.transpose() * r0;
+  for (const auto& [k, c] : p.cols) {
+    const auto& Uk = in.scored.bases[k].U;
+    p.ssr_alone[k] = (r0 - Uk * p.ur.segment(c.first, c.second)).squaredNorm();
+  }
+  return p;
+}
+
 // n log SSR + rank log n of the base, candidate j and candidate k fitted together (the base's
 // own terms are common to every pair and left out); SSR floored at 1e-30 of the gap's. From the
-// candidates' directions already off the base (ScoredCandidates::bases): k's left off j's are
-// those whose sine to span(j) exceeds the absorbed tolerance (singular values of Uk - Uj Uj^T Uk).
-double JointBic(const VerdictInputs& in, std::size_t j, std::size_t k) {
-  const Projected &bj = in.scored.bases[j], &bk = in.scored.bases[k];
-  const Eigen::VectorXd& r0 = in.gap.r;
-  const Eigen::VectorXd rj = r0 - bj.U * (bj.U.transpose() * r0);
-  const Eigen::MatrixXd ck = bk.U - bj.U * (bj.U.transpose() * bk.U);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(ck, Eigen::ComputeThinU);
+// candidates' directions already off the base: k's left off j's are those whose sine to span(j)
+// exceeds the absorbed tolerance (singular values of Uk - Uj Uj^T Uk: the square roots of the
+// eigenvalues of I - M^T M, M = Uj^T Uk), and what they explain of the residual after j is
+// (v^T (Uk^T r0 - M^T Uj^T r0))^2 / s^2 along each such eigenvector v.
+double JointBic(const VerdictInputs& in, const PairProducts& p, std::size_t j, std::size_t k) {
+  const auto [cj, nj] = p.cols.at(j);
+  const auto [ck, nk] = p.cols.at(k);
+  const Eigen::MatrixXd M = p.gram.block(cj, ck, nj, nk);
+  const Eigen::MatrixXd Gk = p.gram.block(ck, ck, nk, nk) - M.transpose() * M;
+  const Eigen::VectorXd along = p.ur.segment(ck, nk) - M.transpose() * p.ur.segment(cj, nj);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  if (nk > 0) eig.compute(Gk);
+  const double tol2 = in.options.absorbed_tolerance * in.options.absorbed_tolerance;
   int rank_k = 0;
   double explained = 0.0;
-  for (Eigen::Index c = 0; c < svd.singularValues().size(); ++c)
-    if (svd.singularValues()(c) > in.options.absorbed_tolerance) {
+  for (Eigen::Index c = 0; c < nk; ++c)
+    if (eig.eigenvalues()(c) > tol2) {
       ++rank_k;
-      explained += std::pow(svd.matrixU().col(c).dot(rj), 2);
+      explained += std::pow(eig.eigenvectors().col(c).dot(along), 2) / eig.eigenvalues()(c);
     }
-  const double ssr = std::max(0.0, rj.squaredNorm() - explained);
+  const Eigen::VectorXd& r0 = in.gap.r;
+  const double ssr = std::max(0.0, p.ssr_alone.at(j) - explained);
   const double n = static_cast<double>(r0.size());
-  return n * std::log(std::max(ssr, 1e-30 * r0.squaredNorm())) + static_cast<double>(bj.rank + rank_k) * std::log(n);
+  return n * std::log(std::max(ssr, 1e-30 * r0.squaredNorm())) +
+         static_cast<double>(in.scored.bases[j].rank + rank_k) * std::log(n);
 }
 
 // Where `family` first appears in the ranking (its best candidate's place).
@@ -103,7 +140,11 @@ std::optional<SearchedPair> BetterJointPair(const VerdictInputs& in, const Ranki
                                             std::size_t v, std::size_t k) {
   const auto& results = in.scored.results;
   const std::vector<std::size_t> pool = PairPool(in);
-  const double incumbent = JointBic(in, v, k);
+  std::vector<std::size_t> needed = pool;
+  needed.push_back(v);
+  needed.push_back(k);
+  const PairProducts products = MakePairProducts(in, needed);
+  const double incumbent = JointBic(in, products, v, k);
   double best = incumbent;
   std::optional<std::pair<std::size_t, std::size_t>> found;
   for (std::size_t a = 0; a < pool.size(); ++a)
@@ -113,7 +154,7 @@ std::optional<SearchedPair> BetterJointPair(const VerdictInputs& in, const Ranki
       const bool same = (results[j].family == results[v].family && results[m].family == results[k].family) ||
                         (results[j].family == results[k].family && results[m].family == results[v].family);
       if (same) continue;
-      const double bic = JointBic(in, j, m);
+      const double bic = JointBic(in, products, j, m);
       if (bic < best) best = bic, found = std::make_pair(j, m);
     }
   if (!found) return std::nullopt;
