@@ -10,10 +10,6 @@
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
 
-// From this many points the candidates are evaluated on several threads (below, threads cost more
-// than they save: a candidate of the 352-point sample takes ~0.3 ms).
-constexpr Eigen::Index kParallelPoints = 20000;
-
 // Does any feature held out in `cv1` carry the effect (a non-zero column entry)? If not, the
 // feature-CV cannot test the candidate (e.g. an effect acting on one feature only, which is then
 // not holdable).

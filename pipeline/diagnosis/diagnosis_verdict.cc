@@ -9,12 +9,23 @@
 #include <tuple>
 #include <vector>
 
+#include "core/parallel.h"
 #include "pipeline/diagnosis/diagnosis_least_squares.h"
 #include "pipeline/diagnosis/diagnosis_pair_fit.h"
 #include "pipeline/diagnosis/diagnosis_projection.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
+
+// FBeyond(in, j, k) for each {j, k} of `pairs`, in order; on several threads from kParallelPoints
+// points (each is a projection of every row: 10^5 points, a sixth of a diagnosis on one thread, perf).
+std::vector<std::pair<double, double>> FBeyondEach(const VerdictInputs& in,
+                                                   const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
+  std::vector<std::pair<double, double>> out(pairs.size());
+  ParallelForEach(pairs.size(), in.gap.r.size() >= kParallelPoints,
+                  [&](std::size_t i) { out[i] = FBeyond(in, pairs[i].first, pairs[i].second); });
+  return out;
+}
 
 // The verdict's family, name and shrink, and the families whose best candidate leaves no
 // significant room for the verdict (the data cannot tell them apart).
@@ -25,10 +36,13 @@ void NameVerdict(const VerdictInputs& in, const Ranking& ranking, std::size_t v,
   out->verdict.name = best.name;
   out->verdict.shrink_pct = best.shrink_pct;
   out->verdict.cv_shrink_pct = best.cv_shrink_pct;
-  for (const auto& [family, k] : ranking.best_of_family) {
-    if (family == best.family || !results[k].significant) continue;
-    if (FBeyond(in, v, k).second > in.options.alpha) out->verdict.indistinguishable_from.push_back(family);
-  }
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::vector<std::string> families;
+  for (const auto& [family, k] : ranking.best_of_family)
+    if (family != best.family && results[k].significant) pairs.emplace_back(v, k), families.push_back(family);
+  const auto f = FBeyondEach(in, pairs);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    if (f[i].second > in.options.alpha) out->verdict.indistinguishable_from.push_back(families[i]);
 }
 
 // On this piece and plan: a family one of whose candidates reproduces most of the verdict's
@@ -75,10 +89,18 @@ void NameIndistinguishableCandidates(const VerdictInputs& in, const Ranking& ran
   const double e_v = s_v.squaredNorm();
   auto& names = out->verdict.indistinguishable_candidates;
   names.clear();
+  std::vector<std::size_t> ks;
+  std::vector<std::pair<std::size_t, std::size_t>> tested;
   for (auto k : ranking.order) {
     if (k == v || !results[k].observable || (out->verdict.also && results[k].family == *out->verdict.also)) continue;
     if (results[k].family == results[v].family && HoldsAllOf(in.scored, k, v)) continue;
-    const bool as_well = results[k].significant && FBeyond(in, v, k).second > in.options.alpha;
+    ks.push_back(k);
+    if (results[k].significant) tested.emplace_back(v, k);
+  }
+  const auto f = FBeyondEach(in, tested);
+  std::size_t t = 0;
+  for (auto k : ks) {
+    const bool as_well = results[k].significant && f[t++].second > in.options.alpha;
     const bool alias = e_v > 0 && (bases[k].U.transpose() * s_v).squaredNorm() / e_v >= in.options.alias_capture;
     if (as_well || alias) names.push_back(results[k].name);
   }
@@ -96,16 +118,20 @@ struct RunnerUp {
 RunnerUp FindRunnerUp(const VerdictInputs& in, std::size_t v, const Verdict& verdict) {
   const auto& results = in.scored.results;
   const auto& ind = verdict.indistinguishable_from;
-  RunnerUp runner;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t k = 0; k < results.size(); ++k) {
     const std::string& family = results[k].family;
     // Not only the candidates significant on their own: beside a strong verdict a second effect
     // is tested against a residual the verdict inflates (servo glitches beside a probe-radius error).
-    if (!results[k].observable || family == results[v].family || std::find(ind.begin(), ind.end(), family) != ind.end())
-      continue;
+    if (results[k].observable && family != results[v].family && std::find(ind.begin(), ind.end(), family) == ind.end())
+      pairs.emplace_back(k, v);
+  }
+  const auto fp = FBeyondEach(in, pairs);
+  RunnerUp runner;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
     // The largest F (p underflows to 0 for several strong effects; F still orders them).
-    const auto [f, p] = FBeyond(in, k, v);
-    if (!runner.k || f > runner.f) runner.k = k, runner.p = p, runner.f = f;
+    const auto [f, p] = fp[i];
+    if (!runner.k || f > runner.f) runner.k = pairs[i].first, runner.p = p, runner.f = f;
   }
   return runner;
 }

@@ -5,6 +5,8 @@
 
 #include <map>
 
+#include "core/parallel.h"
+
 namespace tpcal::pipeline {
 namespace {
 
@@ -37,9 +39,14 @@ void NeighboursInGroup(std::span<const kinematics::Observation> obs, const std::
 
 std::vector<std::vector<int>> FeatureNeighbours(std::span<const kinematics::Observation> observations, int k) {
   std::vector<std::vector<int>> out(observations.size());
-  std::map<int, std::vector<int>> groups;
-  for (std::size_t i = 0; i < observations.size(); ++i) groups[observations[i].group].push_back(static_cast<int>(i));
-  for (const auto& [group, members] : groups) NeighboursInGroup(observations, members, k, &out);
+  std::map<int, std::vector<int>> by_group;
+  for (std::size_t i = 0; i < observations.size(); ++i) by_group[observations[i].group].push_back(static_cast<int>(i));
+  std::vector<const std::vector<int>*> groups;
+  for (const auto& [group, members] : by_group) groups.push_back(&members);
+  // Groups write disjoint entries of `out`. On several threads from 20 000 points (10^5 points:
+  // 0.1 s on one thread, a diagnosis screens 4 times).
+  ParallelForEach(groups.size(), observations.size() >= 20000,
+                  [&](std::size_t g) { NeighboursInGroup(observations, *groups[g], k, &out); });
   return out;
 }
 
