@@ -50,14 +50,14 @@ struct TrimmedFit {
   }
 };
 
-// Residuals at every row of that fit over the rows with keep[i]. Q's singular values are at most
+// Residuals at every row of that fit over the rows not flagged[i]. Q's singular values are at most
 // 1: a direction the kept rows hold below 1e-6 of the largest (an eigenvalue of their Gram matrix
 // below 1e-12 of its largest) is the flagged rows' alone, and fitting it would extrapolate their
 // residuals: it is left out.
-Eigen::VectorXd TrimmedResiduals(const TrimmedFit& t, const std::vector<bool>& keep) {
+Eigen::VectorXd TrimmedResiduals(const TrimmedFit& t, const std::vector<bool>& flagged) {
   std::vector<Eigen::Index> out;
-  for (std::size_t i = 0; i < keep.size(); ++i)
-    if (!keep[i]) out.push_back(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < flagged.size(); ++i)
+    if (flagged[i]) out.push_back(static_cast<Eigen::Index>(i));
   const Eigen::Index p = t.Q.cols();
   if (p == 0 || t.Q.rows() - static_cast<Eigen::Index>(out.size()) <= p) return t.y;
   Eigen::MatrixXd Qf(static_cast<Eigen::Index>(out.size()), p);
@@ -340,9 +340,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   OutlierScreen s;
   std::vector<bool> flagged(observations.size(), false);
   for (s.rounds = 1;; ++s.rounds) {
-    std::vector<bool> keep(flagged.size());
-    for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
-    s.residual_um = TrimmedResiduals(fit, keep);
+    s.residual_um = TrimmedResiduals(fit, flagged);
     NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
     if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
     const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
@@ -353,9 +351,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   s.flag.assign(observations.size(), ScreenFlag::kKept);
   if (s.sigma_um > 0 && FinalFlags(c, flagged, &s)) {
     for (std::size_t i = 0; i < flagged.size(); ++i) flagged[i] = s.flag[i] != ScreenFlag::kKept;
-    std::vector<bool> keep(flagged.size());
-    for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !flagged[i];
-    s.residual_um = TrimmedResiduals(fit, keep);
+    s.residual_um = TrimmedResiduals(fit, flagged);
     NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
   }
   return s;
