@@ -5,7 +5,9 @@
 
 namespace tpcal {
 
-double Median(std::vector<double> values) {
+double Median(std::vector<double> values) { return MedianInPlace(values); }
+
+double MedianInPlace(std::span<double> values) {
   if (values.empty()) return 0.0;
   const std::size_t h = values.size() / 2;
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(h);

@@ -28,8 +28,6 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 // nominal surface of some feature (exact geometry in double: far below any real deviation).
 constexpr double kSymmetryTol_mm = 1e-3;
 constexpr int kMaxSymmetryOrder = 64;
-// Label on several threads from this many points on.
-constexpr std::size_t kParallelPoints = 20000;
 // Nearest nominal sample farther than this: no correspondence (the default nominal sampling
 // spaces levels up to ~20 mm apart on the tallest turned face).
 constexpr double kNeighbourGate_mm = 20.0;
@@ -458,7 +456,7 @@ Result<RawScanLabeling> LabelRawScan(const testpieces::TestPiece& piece, const P
       }
     };
     // One chunk per thread at most: each builds its own Labeler.
-    ParallelChunks(indices.size(), std::max(kParallelPoints, indices.size() / HardwareThreads() + 1),
+    ParallelChunks(indices.size(), std::max(kParallelMinPoints, indices.size() / HardwareThreads() + 1),
                    [&](std::size_t begin, std::size_t end) {
                      work(begin, end);
                      return true;

@@ -187,7 +187,7 @@ ScoredCandidates ScoreCandidates(const CandidateCatalogue& catalogue, const Base
   s.traces.resize(n_candidates);
   s.results.resize(n_candidates);
   // Candidates are independent: each writes its own slot.
-  ParallelForEach(n_candidates, gap.r.size() >= kParallelPoints, [&](std::size_t ci) {
+  ParallelForEach(n_candidates, static_cast<std::size_t>(gap.r.size()) >= kParallelMinPoints, [&](std::size_t ci) {
     s.results[ci] = ScoreCandidate(catalogue.candidates[ci], fit, gap, base_parameters, options, &s.bases[ci],
                                    &s.traces[ci]);
   });

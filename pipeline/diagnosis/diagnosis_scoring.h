@@ -14,10 +14,6 @@
 
 namespace tpcal::pipeline::diagnosis_internal {
 
-// From this many points the candidates are evaluated on several threads (below, threads cost more
-// than they save: a candidate of the 352-point sample takes ~0.3 ms).
-constexpr Eigen::Index kParallelPoints = 20000;
-
 // Per candidate, for the pairwise ranking: feature-CV squared residual per feature and the
 // features held out (empty for the PRESS fallback), and the PRESS sum of squares.
 struct CvTrace {

@@ -17,12 +17,12 @@
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
 
-// FBeyond(in, j, k) for each {j, k} of `pairs`, in order; on several threads from kParallelPoints
+// FBeyond(in, j, k) for each {j, k} of `pairs`, in order; on several threads from kParallelMinPoints
 // points (each is a projection of every row: 10^5 points, a sixth of a diagnosis on one thread, perf).
 std::vector<std::pair<double, double>> FBeyondEach(const VerdictInputs& in,
                                                    const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
   std::vector<std::pair<double, double>> out(pairs.size());
-  ParallelForEach(pairs.size(), in.gap.r.size() >= kParallelPoints,
+  ParallelForEach(pairs.size(), static_cast<std::size_t>(in.gap.r.size()) >= kParallelMinPoints,
                   [&](std::size_t i) { out[i] = FBeyond(in, pairs[i].first, pairs[i].second); });
   return out;
 }

@@ -43,9 +43,8 @@ std::vector<std::vector<int>> FeatureNeighbours(std::span<const kinematics::Obse
   for (std::size_t i = 0; i < observations.size(); ++i) by_group[observations[i].group].push_back(static_cast<int>(i));
   std::vector<const std::vector<int>*> groups;
   for (const auto& [group, members] : by_group) groups.push_back(&members);
-  // Groups write disjoint entries of `out`. On several threads from 20 000 points (10^5 points:
-  // 0.1 s on one thread, a diagnosis screens 4 times).
-  ParallelForEach(groups.size(), observations.size() >= 20000,
+  // Groups write disjoint entries of `out` (a diagnosis screens 4 times).
+  ParallelForEach(groups.size(), observations.size() >= kParallelMinPoints,
                   [&](std::size_t g) { NeighboursInGroup(observations, *groups[g], k, &out); });
   return out;
 }

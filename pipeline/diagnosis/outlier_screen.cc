@@ -87,7 +87,7 @@ void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector
     if (list.empty()) continue;
     v.clear();
     for (int j : list) v.push_back(r(j));
-    s->neighbour_dev_um(i) = r(i) - Median(v);
+    s->neighbour_dev_um(i) = r(i) - MedianInPlace(v);
     scaled.push_back(std::abs(s->neighbour_dev_um(i)) / std::sqrt(1.0 + MedianVariance(list.size())));
   }
   s->sigma_dof = 0.37 * static_cast<double>(scaled.size());
