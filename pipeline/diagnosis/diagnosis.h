@@ -248,6 +248,10 @@ struct Verdict {
   // `also`'s family and larger forms of the verdict's own candidate (which hold it) are left out.
   std::vector<std::string> indistinguishable_candidates;
   std::optional<std::string> also;  // a second family that adds significantly beyond the verdict
+  // With `also`: the other families one of whose candidates reproduces >= alias_capture of what
+  // `also`'s candidate adds beyond the verdict's (its fitted signature off the verdict's
+  // directions): the data cannot tell them from `also` (sorted; not the verdict's family).
+  std::vector<std::string> also_indistinguishable_from;
   // Every family the verdict names, leading first: the verdict's, `also`, and local_defect when
   // the screen found a patch beside a catalogue effect. Empty for none.
   std::vector<std::string> families;

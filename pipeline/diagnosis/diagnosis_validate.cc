@@ -526,7 +526,12 @@ bool HitOrAlias(const ValidationTrial& t) {
     const auto& ind = t.indistinguishable_from;
     return std::find(v.begin(), v.end(), f) != v.end() || std::find(ind.begin(), ind.end(), f) != ind.end();
   };
-  if (!t.pair_families.empty()) return std::all_of(t.pair_families.begin(), t.pair_families.end(), named);
+  // Of a pair, a family may also be named as indistinguishable from `also`.
+  const auto also_alike = [&](const std::string& f) {
+    const auto& a = t.also_indistinguishable_from;
+    return named(f) || std::find(a.begin(), a.end(), f) != a.end();
+  };
+  if (!t.pair_families.empty()) return std::all_of(t.pair_families.begin(), t.pair_families.end(), also_alike);
   return named(t.true_family);
 }
 
@@ -690,6 +695,7 @@ Status DiagnoseTrial(const testpieces::TestPiece& piece, const kinematics::Machi
     trial->verdict_name = d->verdict.name;
     trial->verdict_families = d->verdict.families;
     trial->indistinguishable_from = d->verdict.indistinguishable_from;
+    trial->also_indistinguishable_from = d->verdict.also_indistinguishable_from;
     trial->candidates_named = d->verdict.indistinguishable_candidates;
     trial->candidates_named.push_back(d->verdict.name);
     if (d->pair) trial->candidates_named.insert(trial->candidates_named.end(), d->pair->names.begin(), d->pair->names.end());

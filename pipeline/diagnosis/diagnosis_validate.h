@@ -91,6 +91,7 @@ struct ValidationTrial {
   std::string verdict;
   std::string verdict_name;    // the verdict candidate's name (which axis a rotary family's is)
   std::vector<std::string> indistinguishable_from;
+  std::vector<std::string> also_indistinguishable_from;  // Verdict::also_indistinguishable_from
   // Every candidate named, by name (which axis): the verdict's, the pair's, the indistinguishable ones.
   std::vector<std::string> candidates_named;
   double effect_rms_um = 0.0;     // RMS of the visible signature

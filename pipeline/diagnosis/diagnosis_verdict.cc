@@ -196,6 +196,48 @@ std::size_t SearchPair(const VerdictInputs& in, const Ranking& ranking, std::siz
   return searched->lead;
 }
 
+// The candidate whose family is `also`: the pair's second when the pair is it, else the runner-up's.
+std::optional<std::size_t> AlsoCandidate(const VerdictInputs& in, const DiagnosisResult& out, const RunnerUp& runner) {
+  if (!out.verdict.also) return std::nullopt;
+  const auto& results = in.scored.results;
+  if (out.pair && out.pair->families.size() == 2 && out.pair->families[1] == *out.verdict.also)
+    for (std::size_t k = 0; k < results.size(); ++k)
+      if (results[k].name == out.pair->names[1]) return k;
+  return runner.k;
+}
+
+// AddAliases's test one step on, for `also` (candidate a) beside the verdict's candidate v: a
+// family one of whose candidates, seen off the base and v, reproduces >= alias_capture of a's
+// fitted signature off them. Each projection is of every row: on several threads from
+// kParallelMinPoints points.
+void AddAlsoAliases(const VerdictInputs& in, std::size_t v, std::size_t a, DiagnosisResult* out) {
+  const auto& results = in.scored.results;
+  const Eigen::MatrixXd& U0 = in.fit.basis.U;
+  const Eigen::MatrixXd& Uv = in.scored.bases[v].U;
+  Eigen::MatrixXd Q(U0.rows(), U0.cols() + Uv.cols());
+  Q << U0, Uv;
+  auto off_verdict = [&](std::size_t k) {
+    return ProjectCandidate(ColumnsOf(in.catalogue.candidates[k]), Q, in.options.absorbed_tolerance).U;
+  };
+  const Eigen::MatrixXd Ua = off_verdict(a);
+  const Eigen::VectorXd s_a = Ua * (Ua.transpose() * in.gap.r);
+  const double e_a = s_a.squaredNorm();
+  auto& ind = out->verdict.also_indistinguishable_from;
+  ind.clear();
+  if (e_a <= 0) return;
+  std::vector<std::size_t> ks;
+  for (std::size_t k = 0; k < results.size(); ++k)
+    if (results[k].observable && results[k].family != results[v].family && results[k].family != results[a].family)
+      ks.push_back(k);
+  std::vector<double> captured(ks.size(), 0.0);
+  ParallelForEach(ks.size(), static_cast<std::size_t>(in.gap.r.size()) >= kParallelMinPoints,
+                  [&](std::size_t i) { captured[i] = (off_verdict(ks[i]).transpose() * s_a).squaredNorm() / e_a; });
+  for (std::size_t i = 0; i < ks.size(); ++i)
+    if (captured[i] >= in.options.alias_capture && std::find(ind.begin(), ind.end(), results[ks[i]].family) == ind.end())
+      ind.push_back(results[ks[i]].family);
+  std::sort(ind.begin(), ind.end());
+}
+
 }  // namespace
 
 // Ranking of the significant candidates, pairwise (candidates hold out different features, so
@@ -289,6 +331,7 @@ FinalModel DecideVerdict(const VerdictInputs& in, const Ranking& ranking, Diagno
     out->verdict.also.reset();
   const std::size_t lead = SearchPair(in, ranking, v, partner, out);
   NameIndistinguishableCandidates(in, ranking, lead, out);
+  if (const auto a = AlsoCandidate(in, *out, runner)) AddAlsoAliases(in, lead, *a, out);
   const double n = static_cast<double>(in.gap.r.size());
   // The reference's share along the verdict's directions is fitted.
   const double reference_in = ReferenceVarianceAlong(in.fit, in.scored.bases[lead].U);

@@ -118,7 +118,7 @@ nlohmann::ordered_json DiagnosisJsonValue(const DiagnosisResult& r, const std::m
   v["indistinguishable_from"] = r.verdict.indistinguishable_from;
   v["indistinguishable_candidates"] = r.verdict.indistinguishable_candidates;
   v["cv_shrink_pct"] = r.verdict.cv_shrink_pct;
-  if (r.verdict.also) v["also"] = *r.verdict.also;
+  if (r.verdict.also) v["also"] = *r.verdict.also, v["also_indistinguishable_from"] = r.verdict.also_indistinguishable_from;
   v["families"] = r.verdict.families;
   if (!r.verdict.partial.empty()) v["partial"] = r.verdict.partial;
   j["verdict"] = v;
@@ -210,7 +210,12 @@ std::string DiagnosisText(const DiagnosisResult& r) {
   for (const auto& p : r.explained_patches) o += "  a patch the screen flagged, explained by it (kept): " + PatchText(p) + "\n";
   if (const auto same = SameFamilyAlternatives(r); !same.empty())
     o += fmt::format("  within its family, explained about as well by: {}\n", fmt::join(same, "; "));
-  if (r.verdict.also) o += "  a second effect adds beyond it: " + *r.verdict.also + "\n";
+  if (r.verdict.also) {
+    o += "  a second effect adds beyond it: " + *r.verdict.also;
+    if (!r.verdict.also_indistinguishable_from.empty())
+      o += fmt::format(" (cannot be told apart on this piece and plan from: {})", fmt::join(r.verdict.also_indistinguishable_from, " "));
+    o += "\n";
+  }
   if (r.pair)
     o += fmt::format("  with {} fitted jointly ({}): shrink {:.1f} % in-sample, {:.1f} % cross-validated ({}); "
                      "p = {:.3g} for the second given the first\n",
