@@ -39,6 +39,9 @@ std::string PatchRow(const std::string& kind, const LocalDefect& p) {
 std::string VerdictFamiliesHtml(const Verdict& v) {
   std::string h;
   if (v.families.size() > 1) h += "<p id=\"verdict-families\">Named together: " + Joined(v.families, " + ") + ".</p>\n";
+  if (v.also && !v.also_indistinguishable_from.empty())
+    h += "<p id=\"verdict-also-alike\">The second effect, " + XmlEscape(*v.also) +
+         ", cannot be told apart on this piece and plan from: " + Joined(v.also_indistinguishable_from, ", ") + ".</p>\n";
   if (!v.partial.empty())
     h += "<p id=\"verdict-partial\">No candidate explains the gap; these explain part of it: " +
          Joined(v.partial, "; ") + ".</p>\n";

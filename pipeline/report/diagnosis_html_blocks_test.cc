@@ -43,6 +43,14 @@ TEST(DiagnosisHtmlBlocks, FamiliesAndPartialCandidatesAreNamedAndEscaped) {
   u.family = "unexplained";
   u.partial = {"harmonic <7>"};
   EXPECT_NE(VerdictFamiliesHtml(u).find("harmonic &lt;7&gt;"), std::string::npos);
+  Verdict pair;
+  pair.families = {"thermal_drift", "probe_radius"};
+  pair.also = "probe_radius";
+  EXPECT_EQ(VerdictFamiliesHtml(pair).find("verdict-also-alike"), std::string::npos);  // nothing alike: not said
+  pair.also_indistinguishable_from = {"linear_positioning"};
+  EXPECT_NE(VerdictFamiliesHtml(pair).find("The second effect, probe_radius, cannot be told apart on this piece and plan "
+                                           "from: linear_positioning."),
+            std::string::npos);
 }
 
 TEST(DiagnosisHtmlBlocks, ScreenListsPatchesAndPointsWithTheirLines) {

@@ -176,12 +176,7 @@ std::string DiagnosisSection(const RunReport& r) {
     for (const auto& n : same) list += (list.empty() ? "" : "; ") + E(n);
     h += " Within its family, explained about as well by: " + list + ".";
   }
-  if (v.also) {
-    h += " Also significant beyond the verdict: " + E(*v.also);
-    std::string list;
-    for (const auto& f : v.also_indistinguishable_from) list += (list.empty() ? "" : ", ") + E(f);
-    h += list.empty() ? "." : " (indistinguishable on this piece and plan from: " + list + ").";
-  }
+  if (v.also) h += " Also significant beyond the verdict: " + E(*v.also) + ".";
   if (d.pair)
     h += fmt::format(" Fitted together with {} ({}): shrink {}&nbsp;% in sample, {}&nbsp;% cross-validated ({}).",
                      E(d.pair->names.back()), E(d.pair->why), F(d.pair->shrink_pct, 1), F(d.pair->cv_shrink_pct, 1),
