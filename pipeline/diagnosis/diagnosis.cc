@@ -52,23 +52,52 @@ std::vector<std::string> SameFamilyAlternatives(const DiagnosisResult& result) {
 
 namespace {
 
-// Steps 1-4 of the diagnosis (diagnosis.h) on observations already screened: the base model
-// and its gap, every candidate scored against it, the verdict, where the gap lies.
-Status DiagnoseScreened(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                        const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                        const std::vector<std::string>& base_names, bool point_reference,
-                        const diagnosis_internal::BaseFit& fit, DiagnosisResult* out) {
+// What every step of one diagnosis shares: the piece and machine, every observation, the point
+// reference's normal deviations (per observation, or null), the base parameters, the base fitted
+// to every observation, and the candidate catalogue on them, built once when first asked for
+// (the diagnosis of every point and each screen run again with an effect ask for the same one).
+class WholeInput {
+ public:
+  WholeInput(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
+             const testpieces::MeasuredObservations& mo, const Eigen::VectorXd* reference_dev_um,
+             const std::vector<std::string>& base_names, bool reference_mode, const diagnosis_internal::BaseFit& fit)
+      : piece(piece), machine(machine), mo(mo), reference_dev_um(reference_dev_um), base_names(base_names),
+        reference_mode(reference_mode), fit(fit) {}
+
+  // BuildCandidates on every observation and `fit` (its error, if it failed).
+  Result<const CandidateCatalogue*> Catalogue() const {
+    if (!catalogue_)
+      catalogue_.emplace(BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get()));
+    if (!catalogue_->ok()) return catalogue_->status();
+    return &**catalogue_;
+  }
+
+  const testpieces::TestPiece& piece;
+  const kinematics::MachineModel& machine;
+  const testpieces::MeasuredObservations& mo;
+  const Eigen::VectorXd* reference_dev_um;
+  const std::vector<std::string>& base_names;
+  const bool reference_mode;
+  const diagnosis_internal::BaseFit& fit;
+
+ private:
+  mutable std::optional<Result<CandidateCatalogue>> catalogue_;
+};
+
+// Steps 1-4 of the diagnosis (diagnosis.h) on observations already screened, `fit` and
+// `catalogue` on them: the base model and its gap, every candidate scored against it, the
+// verdict, where the gap lies.
+void DiagnoseScreened(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& mo,
+                      const DiagnosisOptions& options, bool point_reference, bool reference_mode,
+                      const diagnosis_internal::BaseFit& fit, const CandidateCatalogue& catalogue, DiagnosisResult* out) {
   namespace step = diagnosis_internal;
-  const bool reference_mode = options.reference.has_value() || point_reference;
   step::DescribeBaseModel(fit, options, point_reference, reference_mode, out);
   const step::BaseGap gap = step::MakeBaseGap(fit, mo, options.holdout_tolerance);
   step::ReportBaseGap(gap, mo, out);
 
-  auto catalogue = BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get());
-  if (!catalogue.ok()) return catalogue.status();
-  const step::ScoredCandidates scored = step::ScoreCandidates(*catalogue, fit, gap, out->base_parameters, options);
+  const step::ScoredCandidates scored = step::ScoreCandidates(catalogue, fit, gap, out->base_parameters, options);
 
-  const step::VerdictInputs in{*catalogue, scored, fit, gap, options};
+  const step::VerdictInputs in{catalogue, scored, fit, gap, options, {}};
   const step::Ranking ranking = step::RankCandidates(scored);
   const step::FinalModel final_model = step::DecideVerdict(in, ranking, out);
   step::ReportCandidates(in, ranking, final_model.verdict, out);
@@ -80,30 +109,32 @@ Status DiagnoseScreened(const testpieces::TestPiece& piece, const kinematics::Ma
                                         std::max<double>(1.0, static_cast<double>(n - final_model.dof)));
   step::SummariseGap(machine, mo, gap.r, out->noise_sigma_um, options, out, fit.reference_remaining_um);
   step::CompleteVerdict(in, out);
-  return {};
 }
 
 // Steps 1-4 on the observations `screened` keeps: the base refitted without the flagged points
-// (or `fit_all` when nothing is left out), then DiagnoseScreened.
-Result<DiagnosisResult> DiagnoseKept(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                     const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                                     const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
-                                     const diagnosis_internal::BaseFit& fit_all,
+// and its catalogue (or the whole's when nothing is left out), then DiagnoseScreened.
+Result<DiagnosisResult> DiagnoseKept(const WholeInput& whole, const DiagnosisOptions& options,
                                      const diagnosis_internal::ScreenedInput& screened) {
   namespace step = diagnosis_internal;
-  const bool point_reference = reference_dev_um != nullptr;
-  const bool reference_mode = options.reference.has_value() || point_reference;
+  const bool point_reference = whole.reference_dev_um != nullptr;
   DiagnosisResult out;
-  step::ReportScreen(screened, mo, &out);
+  step::ReportScreen(screened, whole.mo, &out);
   if (!screened.left_out) {
-    TPCAL_RETURN_IF_ERROR(DiagnoseScreened(piece, machine, mo, options, base_names, point_reference, fit_all, &out));
+    auto catalogue = whole.Catalogue();
+    if (!catalogue.ok()) return catalogue.status();
+    DiagnoseScreened(whole.machine, whole.mo, options, point_reference, whole.reference_mode, whole.fit, **catalogue,
+                     &out);
     return out;
   }
-  auto fit = step::FitBaseModel(piece, machine, screened.observations.observations, screened.options, base_names,
-                                reference_mode, point_reference ? &screened.reference_dev_um : nullptr);
+  auto fit = step::FitBaseModel(whole.piece, whole.machine, screened.observations.observations, screened.options,
+                                whole.base_names, whole.reference_mode,
+                                point_reference ? &screened.reference_dev_um : nullptr);
   if (!fit.ok()) return fit.status();
-  TPCAL_RETURN_IF_ERROR(DiagnoseScreened(piece, machine, screened.observations, screened.options, base_names,
-                                         point_reference, std::move(*fit), &out));
+  auto catalogue = BuildCandidates(whole.piece, whole.machine, fit->errors, screened.observations, whole.base_names,
+                                   whole.reference_mode, fit->design.get());
+  if (!catalogue.ok()) return catalogue.status();
+  DiagnoseScreened(whole.machine, screened.observations, screened.options, point_reference, whole.reference_mode, *fit,
+                   *catalogue, &out);
   return out;
 }
 
@@ -146,30 +177,24 @@ enum class Flagged { kPatches, kEveryFlag };
 // the screen run again with that effect modelled, the diagnosis of what that screen keeps, if its
 // verdict is the whole diagnosis's; for kPatches with local_defect named indistinguishable and
 // `first`'s patches as explained_patches. Else nullopt.
-std::optional<DiagnosisResult> FlagsExplained(const testpieces::TestPiece& piece,
-                                              const kinematics::MachineModel& machine,
-                                              const testpieces::MeasuredObservations& mo,
-                                              const DiagnosisOptions& options, const Eigen::VectorXd* reference_dev_um,
-                                              const std::vector<std::string>& base_names,
-                                              const diagnosis_internal::BaseFit& fit, const DiagnosisResult& first,
-                                              bool needs_pair, Flagged flagged) {
+std::optional<DiagnosisResult> FlagsExplained(const WholeInput& whole, const DiagnosisOptions& options,
+                                              const DiagnosisResult& first, bool needs_pair, Flagged flagged) {
   namespace step = diagnosis_internal;
   DiagnosisOptions keep = options;
   keep.screen_outliers = false;
-  const step::ScreenedInput kept = step::ScreenBaseFit(fit, mo, keep, reference_dev_um);
-  auto whole = DiagnoseKept(piece, machine, mo, keep, reference_dev_um, base_names, fit, kept);
-  if (!whole.ok() || !IsCatalogueFamily(whole->verdict.family) || (needs_pair && !whole->verdict.also))
+  const step::ScreenedInput kept = step::ScreenBaseFit(whole.fit, whole.mo, keep, whole.reference_dev_um);
+  auto every = DiagnoseKept(whole, keep, kept);
+  if (!every.ok() || !IsCatalogueFamily(every->verdict.family) || (needs_pair && !every->verdict.also))
     return std::nullopt;
-  const bool reference_mode = options.reference.has_value() || reference_dev_um != nullptr;
-  auto all = BuildCandidates(piece, machine, fit.errors, mo, base_names, reference_mode, fit.design.get());
+  auto all = whole.Catalogue();
   if (!all.ok()) return std::nullopt;
-  const auto effect = VerdictColumns(*all, *whole);
+  const auto effect = VerdictColumns(**all, *every);
   if (!effect) return std::nullopt;
-  const step::ScreenedInput again = step::ScreenBaseFit(fit, mo, options, reference_dev_um, &*effect);
+  const step::ScreenedInput again = step::ScreenBaseFit(whole.fit, whole.mo, options, whole.reference_dev_um, &*effect);
   if (!again.screen.patches.empty() || (flagged == Flagged::kEveryFlag && again.screen.CountFlagged() > 0))
     return std::nullopt;
-  auto d = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, fit, again);
-  if (!d.ok() || d->verdict.family != whole->verdict.family) return std::nullopt;
+  auto d = DiagnoseKept(whole, options, again);
+  if (!d.ok() || d->verdict.family != every->verdict.family) return std::nullopt;
   if (flagged == Flagged::kEveryFlag) return std::move(*d);
   auto& alike = d->verdict.indistinguishable_from;
   alike.push_back("local_defect");
@@ -182,12 +207,9 @@ std::optional<DiagnosisResult> FlagsExplained(const testpieces::TestPiece& piece
 // model (PatchesOnBothSides): the diagnosis of every point, and if it names an effect of the
 // catalogue whose model leaves no patch to flag, that effect explains the patches
 // (FlagsExplained). Else `first`: also when the screen leaves nothing out (--keep-outliers).
-Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
-                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+Result<DiagnosisResult> PatchAsEffect(const WholeInput& whole, const DiagnosisOptions& options, DiagnosisResult first) {
   if (!options.screen_outliers || !PatchesOnBothSides(first.local_defects)) return first;
-  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false, Flagged::kPatches);
+  auto d = FlagsExplained(whole, options, first, false, Flagged::kPatches);
   return d ? std::move(*d) : std::move(first);
 }
 
@@ -195,15 +217,12 @@ Result<DiagnosisResult> PatchAsEffect(const testpieces::TestPiece& piece, const 
 // verdict's model leaves on a few features is flagged as patches, and leaving them out takes its
 // evidence away. If the diagnosis of every point names a pair whose model leaves no patch to flag,
 // the pair explains the patches (FlagsExplained). Else `first`.
-Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                            const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                                            const Eigen::VectorXd* reference_dev_um,
-                                            const std::vector<std::string>& base_names,
-                                            const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+Result<DiagnosisResult> PatchAsSecondEffect(const WholeInput& whole, const DiagnosisOptions& options,
+                                            DiagnosisResult first) {
   if (!options.screen_outliers || first.local_defects.empty() || !IsCatalogueFamily(first.verdict.family) ||
       first.verdict.also)
     return first;
-  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, true, Flagged::kPatches);
+  auto d = FlagsExplained(whole, options, first, true, Flagged::kPatches);
   return d && d->verdict.also ? std::move(*d) : std::move(first);
 }
 
@@ -212,12 +231,9 @@ Result<DiagnosisResult> PatchAsSecondEffect(const testpieces::TestPiece& piece, 
 // noise) is flagged there point by point, and leaving them out takes its evidence away. If the
 // diagnosis of every point names an effect of the catalogue whose model leaves no point to flag,
 // that effect explains them (FlagsExplained). Else `first`.
-Result<DiagnosisResult> FlagsAsEffect(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                      const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
-                                      const Eigen::VectorXd* reference_dev_um, const std::vector<std::string>& base_names,
-                                      const diagnosis_internal::BaseFit& fit, DiagnosisResult first) {
+Result<DiagnosisResult> FlagsAsEffect(const WholeInput& whole, const DiagnosisOptions& options, DiagnosisResult first) {
   if (!options.screen_outliers || first.verdict.family != "none" || first.outliers.empty()) return first;
-  auto d = FlagsExplained(piece, machine, mo, options, reference_dev_um, base_names, fit, first, false, Flagged::kEveryFlag);
+  auto d = FlagsExplained(whole, options, first, false, Flagged::kEveryFlag);
   return d ? std::move(*d) : std::move(first);
 }
 
@@ -246,23 +262,21 @@ Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const k
   auto fit =
       step::FitBaseModel(piece, machine, mo.observations, options, base_names, reference_mode, reference_dev_um);
   if (!fit.ok()) return fit.status();
+  const WholeInput whole(piece, machine, mo, reference_dev_um, base_names, reference_mode, *fit);
   const step::ScreenedInput screened = step::ScreenBaseFit(*fit, mo, options, reference_dev_um);
-  auto first = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, screened);
-  if (first.ok() && first->verdict.family == "local_defect")
-    return PatchAsEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
-  if (first.ok() && first->verdict.family == "none")
-    return FlagsAsEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
+  auto first = DiagnoseKept(whole, options, screened);
+  if (first.ok() && first->verdict.family == "local_defect") return PatchAsEffect(whole, options, std::move(*first));
+  if (first.ok() && first->verdict.family == "none") return FlagsAsEffect(whole, options, std::move(*first));
   if (!first.ok() || !screened.left_out || !IsCatalogueFamily(first->verdict.family)) return first;
-  auto all = BuildCandidates(piece, machine, fit->errors, mo, base_names, reference_mode, fit->design.get());
+  auto all = whole.Catalogue();
   if (!all.ok()) return all.status();
-  const auto effect = VerdictColumns(*all, *first);
+  const auto effect = VerdictColumns(**all, *first);
   if (!effect) return first;
   const step::ScreenedInput again = step::ScreenBaseFit(*fit, mo, options, reference_dev_um, &*effect);
-  if (again.screen.flag == screened.screen.flag)
-    return PatchAsSecondEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*first));
-  auto second = DiagnoseKept(piece, machine, mo, options, reference_dev_um, base_names, *fit, again);
+  if (again.screen.flag == screened.screen.flag) return PatchAsSecondEffect(whole, options, std::move(*first));
+  auto second = DiagnoseKept(whole, options, again);
   if (!second.ok()) return second;
-  return PatchAsSecondEffect(piece, machine, mo, options, reference_dev_um, base_names, *fit, std::move(*second));
+  return PatchAsSecondEffect(whole, options, std::move(*second));
 }
 
 // Labelled points of `points` (any placement) as observations in the nominal part frame (datum

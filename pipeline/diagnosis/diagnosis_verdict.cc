@@ -17,13 +17,40 @@
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
 
-// FBeyond(in, j, k) for each {j, k} of `pairs`, in order; on several threads from kParallelMinPoints
-// points (each is a projection of every row: 10^5 points, a sixth of a diagnosis on one thread, perf).
+// FBeyond's test, not remembered.
+std::pair<double, double> ComputeFBeyond(const VerdictInputs& in, std::size_t j, std::size_t k) {
+  const Eigen::MatrixXd& U0 = in.fit.basis.U;
+  const Projected& bk = in.scored.bases[k];
+  const Eigen::VectorXd& r0 = in.gap.r;
+  Eigen::MatrixXd Q(r0.size(), U0.cols() + bk.U.cols());
+  Q << U0, bk.U;
+  // Residual after the base and candidate k, and the test of adding candidate j to it.
+  const Eigen::VectorXd rk = r0 - bk.U * (bk.U.transpose() * r0);
+  Projected bj = ProjectCandidate(ColumnsOf(in.catalogue.candidates[j]), Q, in.options.absorbed_tolerance);
+  if (bj.rank == 0) return {0.0, 1.0};
+  const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
+  const double dof = static_cast<double>(r0.size() - Q.cols() - bj.rank);
+  if (dof <= 0 || rjk.squaredNorm() <= 0) return {0.0, 1.0};
+  const double f = ((rk.squaredNorm() - rjk.squaredNorm()) / bj.rank) / (rjk.squaredNorm() / dof);
+  return {f, FUpperTail(f, bj.rank, dof)};
+}
+
+// FBeyond(in, j, k) for each {j, k} of `pairs`, in order: those not yet in in.f_beyond on several
+// threads from kParallelMinPoints points (each is a projection of every row: 10^5 points, a sixth
+// of a diagnosis on one thread, perf), then remembered.
 std::vector<std::pair<double, double>> FBeyondEach(const VerdictInputs& in,
                                                    const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
-  std::vector<std::pair<double, double>> out(pairs.size());
-  ParallelForEach(pairs.size(), static_cast<std::size_t>(in.gap.r.size()) >= kParallelMinPoints,
-                  [&](std::size_t i) { out[i] = FBeyond(in, pairs[i].first, pairs[i].second); });
+  std::vector<std::pair<std::size_t, std::size_t>> missing;
+  for (const auto& jk : pairs)
+    if (!in.f_beyond.contains(jk) && std::find(missing.begin(), missing.end(), jk) == missing.end())
+      missing.push_back(jk);
+  std::vector<std::pair<double, double>> computed(missing.size());
+  ParallelForEach(missing.size(), static_cast<std::size_t>(in.gap.r.size()) >= kParallelMinPoints,
+                  [&](std::size_t i) { computed[i] = ComputeFBeyond(in, missing[i].first, missing[i].second); });
+  for (std::size_t i = 0; i < missing.size(); ++i) in.f_beyond.emplace(missing[i], computed[i]);
+  std::vector<std::pair<double, double>> out;
+  out.reserve(pairs.size());
+  for (const auto& jk : pairs) out.push_back(in.f_beyond.at(jk));
   return out;
 }
 
@@ -277,20 +304,7 @@ bool Beats(const ScoredCandidates& scored, std::size_t a, std::size_t b) {
 }
 
 std::pair<double, double> FBeyond(const VerdictInputs& in, std::size_t j, std::size_t k) {
-  const Eigen::MatrixXd& U0 = in.fit.basis.U;
-  const Projected& bk = in.scored.bases[k];
-  const Eigen::VectorXd& r0 = in.gap.r;
-  Eigen::MatrixXd Q(r0.size(), U0.cols() + bk.U.cols());
-  Q << U0, bk.U;
-  // Residual after the base and candidate k, and the test of adding candidate j to it.
-  const Eigen::VectorXd rk = r0 - bk.U * (bk.U.transpose() * r0);
-  Projected bj = ProjectCandidate(ColumnsOf(in.catalogue.candidates[j]), Q, in.options.absorbed_tolerance);
-  if (bj.rank == 0) return {0.0, 1.0};
-  const Eigen::VectorXd rjk = rk - bj.U * (bj.U.transpose() * rk);
-  const double dof = static_cast<double>(r0.size() - Q.cols() - bj.rank);
-  if (dof <= 0 || rjk.squaredNorm() <= 0) return {0.0, 1.0};
-  const double f = ((rk.squaredNorm() - rjk.squaredNorm()) / bj.rank) / (rjk.squaredNorm() / dof);
-  return {f, FUpperTail(f, bj.rank, dof)};
+  return FBeyondEach(in, {{j, k}}).front();
 }
 
 Ranking RankCandidates(const ScoredCandidates& scored) {

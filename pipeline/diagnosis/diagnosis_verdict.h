@@ -18,13 +18,19 @@
 
 namespace tpcal::pipeline::diagnosis_internal {
 
-// What the verdict's tests read: the catalogue, its scores, the base fit and the gap it leaves.
+// FBeyond's figures already computed for these inputs, by {j, k}.
+using FBeyondMemo = std::map<std::pair<std::size_t, std::size_t>, std::pair<double, double>>;
+
+// What the verdict's tests read: the catalogue, its scores, the base fit and the gap it leaves;
+// and the F tests made on them so far (each is a projection of every row, asked for by several
+// of the verdict's steps: computed once).
 struct VerdictInputs {
   const CandidateCatalogue& catalogue;
   const ScoredCandidates& scored;
   const BaseFit& fit;
   const BaseGap& gap;
   const DiagnosisOptions& options;
+  mutable FBeyondMemo f_beyond;
 };
 
 // Does candidate a beat candidate b (both significant)? Their held-out squared residuals on the
@@ -32,7 +38,8 @@ struct VerdictInputs {
 // features), else the smaller PRESS sum; undecided: the smaller delta BIC.
 bool Beats(const ScoredCandidates& scored, std::size_t a, std::size_t b);
 
-// F statistic and p-value of candidate j added to base + candidate k ({0, 1} when j adds nothing).
+// F statistic and p-value of candidate j added to base + candidate k ({0, 1} when j adds nothing);
+// remembered in in.f_beyond (not safe to call from several threads at once).
 std::pair<double, double> FBeyond(const VerdictInputs& in, std::size_t j, std::size_t k);
 
 // The ranking, best first: significant, then observable, then the rest; within each, most

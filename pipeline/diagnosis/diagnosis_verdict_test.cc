@@ -9,6 +9,7 @@
 
 #include "kinematics/machine_model.h"
 #include "pipeline/diagnosis/diagnosis_least_squares.h"
+#include "pipeline/diagnosis/diagnosis_projection.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
 namespace {
@@ -50,7 +51,7 @@ TEST(ExcessTest, WeighsTheReferencesSpreadNotOnlyItsMean) {
     gap.ssr = gap.r.squaredNorm();
     DiagnosisResult out;
     out.neighbour_sigma_um = std::sqrt(mad_law(rng) / m);
-    CompleteVerdict({catalogue, scored, fit, gap, options}, &out);
+    CompleteVerdict({catalogue, scored, fit, gap, options, {}}, &out);
     rejected += out.excess_p_value < 0.01;
     const double s2 = out.neighbour_sigma_um * out.neighbour_sigma_um;
     rejected_mean_only += FUpperTail(std::max(0.0, gap.ssr - r) / n / s2, n, m) < 0.01;
@@ -58,6 +59,48 @@ TEST(ExcessTest, WeighsTheReferencesSpreadNotOnlyItsMean) {
   const double rate = static_cast<double>(rejected) / draws, mean_only = static_cast<double>(rejected_mean_only) / draws;
   EXPECT_NEAR(rate, 0.01, 0.004) << "mean only: " << mean_only;
   EXPECT_GT(mean_only, rate + 0.003) << "law: " << rate;
+}
+
+// FBeyond remembers each test in the inputs' memo, and what it remembers is what it computes.
+// n = 200 residuals of unit noise (seed 5) plus 3 x candidate j's column (entries of unit RMS),
+// over a base of the constant column; candidate k is a sine the gap does not hold. Truth: j
+// beyond k has F near 9 n / 1 = 1800 on (1, 197) (p below 1e-12 by far); k beyond j is F(1, 196)
+// noise (below 12, its 0.07 % point, for this seed).
+TEST(FBeyondTest, EachTestIsComputedOnceAndRemembered) {
+  constexpr int n = 200;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto machine = kinematics::MakeMachine(kinematics::MachineType::kAcTable);
+  ASSERT_TRUE(machine.ok());
+  BaseFit fit{kinematics::ErrorState(*machine)};
+  fit.basis.U = Eigen::MatrixXd::Constant(n, 1, 1.0 / std::sqrt(double{n}));
+  fit.basis.rank = 1;
+  CandidateCatalogue catalogue;
+  Eigen::VectorXd cj(n), ck(n), r(n);
+  for (int i = 0; i < n; ++i) {
+    cj(i) = std::sqrt(2.0) * std::cos(0.1 * i);
+    ck(i) = std::sqrt(2.0) * std::sin(0.37 * i);
+    r(i) = normal(rng) + 3.0 * cj(i);
+  }
+  for (const auto& c : {cj, ck}) catalogue.candidates.push_back({"f", "c", c, {"p"}, {"um"}, nullptr, {}});
+  const DiagnosisOptions options;
+  ScoredCandidates scored;
+  for (const auto& c : catalogue.candidates)
+    scored.bases.push_back(ProjectCandidate(ColumnsOf(c), fit.basis.U, options.absorbed_tolerance));
+  BaseGap gap{r, Eigen::VectorXd::Zero(n), r.squaredNorm(), 0.0, 0.0,
+              GroupCrossValidation(Eigen::MatrixXd(n, 0), std::vector<int>(n, 0), 1, 1e-9), GroupCvResult{}, {}};
+  const VerdictInputs in{catalogue, scored, fit, gap, options, {}};
+  const auto j_beyond_k = FBeyond(in, 0, 1);
+  EXPECT_GT(j_beyond_k.first, 1000.0);
+  EXPECT_LT(j_beyond_k.second, 1e-12);
+  EXPECT_EQ(in.f_beyond.size(), 1u);
+  const auto k_beyond_j = FBeyond(in, 1, 0);
+  EXPECT_LT(k_beyond_j.first, 12.0);
+  EXPECT_EQ(in.f_beyond.size(), 2u);
+  EXPECT_EQ(FBeyond(in, 0, 1), j_beyond_k);
+  EXPECT_EQ(in.f_beyond.size(), 2u);
+  const VerdictInputs fresh{catalogue, scored, fit, gap, options, {}};
+  EXPECT_EQ(FBeyond(fresh, 1, 0), k_beyond_j);
 }
 
 }  // namespace
