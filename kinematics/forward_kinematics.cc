@@ -175,6 +175,13 @@ Rigid3 NominalPartFromTool(const MachineModel& model, const AxisState& axes) {
   return PartFromToolWithLinkErrors(model, ZeroErrors(model, &buf), axes);
 }
 
+Rigid3 NominalPartFromTool(const MachineModel& model, const AxisState& axes, Workspace* ws) {
+  ZeroErrors(model, &ws->link_errors);
+  PoseT<double> w, t;
+  internal::MemoBranchPoses(model, ws->link_errors, axes, ws, &w, &t, nullptr);
+  return ToRigid(w.inverse() * t);
+}
+
 Rigid3 MachineFromPart(const MachineModel& model, const ErrorState& errors, const AxisState& axes,
                        Workspace* ws) {
   Evaluate(model, errors, axes, ws);

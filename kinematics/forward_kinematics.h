@@ -45,6 +45,9 @@ Rigid3 PartFromTool(const MachineModel& model, const ErrorState& errors, const A
                     Workspace* ws);
 // Nominal machine (no errors).
 Rigid3 NominalPartFromTool(const MachineModel& model, const AxisState& axes);
+// The same figures through `ws`'s memo of the link transforms: a link is recomputed only when its
+// axis position changed (several calls at the same rotary positions compute the rotations once).
+Rigid3 NominalPartFromTool(const MachineModel& model, const AxisState& axes, Workspace* ws);
 
 // part_from_machine and machine_from_tool separately (for R-test style checks), under errors.
 Rigid3 MachineFromPart(const MachineModel& model, const ErrorState& errors, const AxisState& axes,

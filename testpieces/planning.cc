@@ -43,7 +43,10 @@ Result<kinematics::CutPoint> MakeCutPoint(const kinematics::MachineModel& machin
 Result<RotaryFrame> RotaryFrame::At(const kinematics::MachineModel& machine, const kinematics::AxisState& rotary) {
   RotaryFrame f;
   f.rotary_ = RotaryOnly(rotary);
-  const Rigid3 part_from_tool = kinematics::NominalPartFromTool(machine, f.rotary_);
+  // The four evaluations differ in one linear axis: the memo computes the rotary links once, and
+  // keeps them for the next frame at the same rotary positions (a milled feature's points).
+  thread_local kinematics::Workspace ws;
+  const Rigid3 part_from_tool = kinematics::NominalPartFromTool(machine, f.rotary_, &ws);
   f.R_ = part_from_tool.rotation();
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
   f.ref0_mm_ = part_from_tool * zero;  // what NominalToolPointInPart(machine, rotary, 0) returns
@@ -51,7 +54,7 @@ Result<RotaryFrame> RotaryFrame::At(const kinematics::MachineModel& machine, con
   for (int i = 0; i < 3; ++i) {
     kinematics::AxisState si = f.rotary_;
     kinematics::SetPosition(&si, kinematics::AxisFromIndex(i), 1.0);
-    M.col(i) = kinematics::NominalToolPointInPart(machine, si, zero) - f.ref0_mm_;
+    M.col(i) = kinematics::NominalPartFromTool(machine, si, &ws) * zero - f.ref0_mm_;
   }
   f.lu_.compute(M);
   if (f.lu_.rank() < 3) return Status(StatusCode::kDegenerate, "inverse kinematics: linear axes do not span space");
