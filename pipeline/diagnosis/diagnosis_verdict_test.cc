@@ -64,7 +64,7 @@ TEST(ExcessTest, WeighsTheReferencesSpreadNotOnlyItsMean) {
 // FBeyond remembers each test in the inputs' memo, and what it remembers is what it computes.
 // n = 200 residuals of unit noise (seed 5) plus 3 x candidate j's column (entries of unit RMS),
 // over a base of the constant column; candidate k is a sine the gap does not hold. Truth: j
-// beyond k has F near 9 n / 1 = 1800 on (1, 197) (p below 1e-12 by far); k beyond j is F(1, 196)
+// beyond k has F near 9 n / 1 = 1800 on (1, 197) (p below 1e-12 by far); k beyond j is F(1, 197)
 // noise (below 12, its 0.07 % point, for this seed).
 TEST(FBeyondTest, EachTestIsComputedOnceAndRemembered) {
   constexpr int n = 200;
