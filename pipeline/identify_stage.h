@@ -32,6 +32,9 @@ struct IdentifyStageOptions {
   std::string parameters_origin = "--parameters";  // where `parameters` came from: their errors are located there
   kinematics::IdentifyOptions identify;
   ScanCellOptions scan_cells;           // dense scans are pooled (above_points 0: never)
+  // A file above scan_cells.above_points is re-aligned (the first pass, with fit_alignment) from
+  // an even sample of about this many points, at least 500 per feature or all it has; 0: all.
+  std::size_t first_pass_points = 20000;
   // Called as each step starts: "gdt", "associate", "scan cells" (pooled files only), "identify"
   // (the re-association in the corrected datum frame is part of it). May be empty.
   std::function<void(const char* step)> on_step;
