@@ -8,11 +8,8 @@
 // it attenuates a profile harmonic of wavelength lambda by about (pi L / lambda)^2 / 6 (0.13 %
 // for a 5-lobe profile over a 2 deg cell) and leaves linear trends along the line exact. What it
 // changes: the noise of a cell is the CMM noise over sqrt(its points), and every count, RMS and
-// maximum downstream is per cell. Cells follow scan order (a file in the order the CMM took the
-// points). A file that is not (consecutive points pool fewer than 3 a cell) is pooled on a fixed
-// grid instead: one cell per bin of feature, operation, feed direction, cutting-time window, axis
-// commands, nominal point and normal (the caps as bin widths, half the normal turn), split at the
-// points cap, its value that of a line or plane fitted over the directions its members span.
+// maximum downstream is per cell. Cells need scan order (a file in the order the CMM took the
+// points); points out of order just form cells of one, so a shuffled file is not reduced.
 #pragma once
 
 #include <cstddef>
@@ -52,7 +49,6 @@ struct ScanCells {
   std::size_t points_per_cell_max = 0;      // the cap used
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
-  bool on_grid = false;                     // cells of a fixed grid (the file not in scan order)
 };
 
 // What a run reports of the reduction.
@@ -63,7 +59,6 @@ struct ScanCellSummary {
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
   double mean_points_per_cell = 0.0;
-  bool on_grid = false;
 };
 ScanCellSummary Summarise(const ScanCells& cells);
 
