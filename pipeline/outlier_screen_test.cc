@@ -166,15 +166,46 @@ struct LineOfHits {
   Eigen::VectorXd y;
   Eigen::MatrixXd X;
 };
-LineOfHits HitsAlongALine(std::uint64_t seed) {
+LineOfHits HitsAlongALine(std::uint64_t seed, int n = 400) {
   std::mt19937_64 rng(seed);
-  const int n = 400;
   LineOfHits line{std::vector<kinematics::Observation>(n), Eigen::VectorXd(n), Eigen::MatrixXd::Ones(n, 1)};
   for (int i = 0; i < n; ++i) {
     line.obs[static_cast<std::size_t>(i)].cut.nominal_point_mm = Eigen::Vector3d(i, 0, 0);
     line.y(i) = StandardNormal(rng);
   }
   return line;
+}
+
+// A screen of many observations raises its seed threshold so that noise alone starts as many
+// components as in a file of 2000 (seed_reference_points). Truth: SeedZFor(n) solves
+// n erfc(z / sqrt 2) = 2000 erfc(4.5 / sqrt 2) (to 1e-9 relative), and is 4.5 up to 2000 points.
+// Six files of 200 000 hits of normal noise (seeds 190 to 195), the model a constant: at 4.5 sigma
+// throughout the screen flags chance points in 5 of them (2 to 9 points each; 1.4 chance seeds
+// expected per file, a patch grows from each); at the raised threshold (0.014 expected per file)
+// in none. A 10-sigma hit is still an outlier.
+TEST(OutlierScreen, ManyObservationsRaiseTheSeedThreshold) {
+  const OutlierScreenOptions o;
+  EXPECT_EQ(SeedZFor(o, 352), o.seed_z);
+  EXPECT_EQ(SeedZFor(o, 2000), o.seed_z);
+  const int n = 200000;
+  const double z = SeedZFor(o, n);
+  const double expected = 2000 * std::erfc(o.seed_z / std::sqrt(2.0));
+  EXPECT_NEAR(n * std::erfc(z / std::sqrt(2.0)), expected, 1e-9 * expected);
+  OutlierScreenOptions fixed;
+  fixed.seed_reference_points = 0;
+  int files_fixed = 0, files_raised = 0;
+  for (std::uint64_t seed = 190; seed < 196; ++seed) {
+    auto [obs, y, X] = HitsAlongALine(seed, n);
+    files_fixed += ScreenOutliers(X, y, obs, fixed).CountFlagged() > 0;
+    files_raised += ScreenOutliers(X, y, obs, o).CountFlagged() > 0;
+  }
+  EXPECT_GE(files_fixed, 4);
+  EXPECT_EQ(files_raised, 0);
+  auto [obs, y, X] = HitsAlongALine(190, n);
+  y(1000) = 10.0 * ScreenOutliers(X, y, obs, o).sigma_um;
+  const OutlierScreen hit = ScreenOutliers(X, y, obs, o);
+  EXPECT_EQ(hit.CountFlagged(), 1);
+  EXPECT_EQ(hit.flag[1000], ScreenFlag::kOutlier);
 }
 
 // The screen alone on 400 hits 1 mm apart along one feature, normal noise (seed 186), the model a

@@ -321,12 +321,27 @@ std::vector<int> OutlierScreen::KeptIndices() const {
   return out;
 }
 
+double SeedZFor(const OutlierScreenOptions& options, std::size_t n) {
+  const auto reference = static_cast<double>(options.seed_reference_points);
+  if (options.seed_reference_points == 0 || static_cast<double>(n) <= reference) return options.seed_z;
+  const double tail = std::erfc(options.seed_z / std::sqrt(2.0)) * reference / static_cast<double>(n);
+  double lo = options.seed_z, hi = 40.0;  // erfc is decreasing: bisect to double precision
+  for (int i = 0; i < 200 && lo < hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (std::erfc(mid / std::sqrt(2.0)) > tail ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations, const OutlierScreenOptions& options,
                              const Eigen::MatrixXd& reference_remaining_um) {
   assert(reference_remaining_um.cols() == 0 ||
          reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
-  ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, options,
+  OutlierScreenOptions sized = options;
+  sized.seed_z = SeedZFor(options, observations.size());
+  ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, sized,
                   reference_remaining_um};
   c.adj = c.nb;  // symmetric neighbour graph
   for (std::size_t i = 0; i < c.nb.size(); ++i)

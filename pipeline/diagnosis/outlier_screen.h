@@ -44,6 +44,10 @@ namespace tpcal::pipeline {
 
 struct OutlierScreenOptions {
   double seed_z = 4.5;              // |r| / sigma above which a point starts a flagged component
+  // Above this many observations seed_z rises (SeedZFor) so that noise alone starts as many
+  // components, in expectation, as in a file of this size (0: never): a dense scan of 2e5 points
+  // screened at 4.5 sigma expects 1.4 chance outliers or patches, at 5.3 sigma 0.014.
+  std::size_t seed_reference_points = 2000;
   double grow_z = 3.0;              // |r| / sigma for a neighbour to join it (same sign)
   // A neighbour down to join_floor_z sigma also joins when it is at least join_ratio of the member
   // it touches: a patch tapering off (a 2-hit burr at 5x noise has its second hit near 3.5 sigma),
@@ -59,6 +63,10 @@ struct OutlierScreenOptions {
   double min_sigma_um = 0.01;
   Status Validate() const;
 };
+
+// The seed threshold a screen of n observations uses: options.seed_z up to seed_reference_points,
+// above it the z with n erfc(z / sqrt 2) = seed_reference_points erfc(seed_z / sqrt 2).
+double SeedZFor(const OutlierScreenOptions& options, std::size_t n);
 
 enum class ScreenFlag { kKept, kOutlier, kLocalDefect };
 
