@@ -35,8 +35,10 @@ struct IdentifyStageOptions {
   // A file above scan_cells.above_points is re-aligned (the first pass, with fit_alignment) from
   // an even sample of about this many points, at least 500 per feature or all it has; 0: all.
   std::size_t first_pass_points = 20000;
-  // Called as each step starts: "gdt", "associate", "scan cells" (pooled files only), "identify"
-  // (the re-association in the corrected datum frame is part of it). May be empty.
+  // Called as each step starts: "gdt", "associate", "scan cells" (a pooled file identified without
+  // fit_alignment: with it, the first pass of a dense file runs on a sample that is not pooled),
+  // "identify" (the re-association in the corrected datum frame, and a dense file's pooling, are
+  // part of it). May be empty.
   std::function<void(const char* step)> on_step;
   // Outliers and local defects (pipeline/diagnosis/outlier_screen.h) are left out of the final
   // identification and listed; false keeps them (still listed). Scan-line cells are not screened.
