@@ -67,6 +67,9 @@ struct Observation {
   CutPoint cut;                                           // how and where it was cut (nominal p0, n0)
   Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();  // measured point, nominal part frame
   int group = 0;                                          // feature index (delete-one-group jackknife)
+  // Noise sigma of this observation's deviation relative to one probe hit's: 1 for a hit, below 1
+  // for a pooled scan cell (pipeline/scan_cells.h). The diagnosis's noise tests weigh it; fits do not.
+  double noise_scale = 1.0;
 };
 
 struct LinearDesign;

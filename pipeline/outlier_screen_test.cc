@@ -208,6 +208,29 @@ TEST(OutlierScreen, ManyObservationsRaiseTheSeedThreshold) {
   EXPECT_EQ(hit.flag[1000], ScreenFlag::kOutlier);
 }
 
+// Observations of unequal noise (pooled scan cells): 2000 along a line (seed 197), the first half
+// of one hit's noise (sigma 1), the second half cells of 25 hits (noise_scale 0.2, noise 0.2), the
+// model a constant; one cell at 2000 / 2 + 500 pushed by 2 (10x its noise, 2x a hit's). Truth:
+// with the scales the screen's sigma is one hit's (1, within 0.1: a MAD of 2000) and only that cell
+// is flagged. Weighing each as one hit (scales 1), the sigma is the mixture's (below 0.7) and the
+// noisy half's tails are flagged (measured: sigma 0.39, 198 hits).
+TEST(OutlierScreen, ObservationsOfUnequalNoiseAreJudgedByTheirOwn) {
+  auto [obs, y, X] = HitsAlongALine(197, 2000);
+  for (int i = 1000; i < 2000; ++i) obs[static_cast<std::size_t>(i)].noise_scale = 0.2, y(i) *= 0.2;
+  y(1500) += 2.0;
+  const OutlierScreen s = ScreenOutliers(X, y, obs, {});
+  EXPECT_NEAR(s.sigma_um, 1.0, 0.1);
+  EXPECT_EQ(s.CountFlagged(), 1);
+  EXPECT_EQ(s.flag[1500], ScreenFlag::kOutlier);
+  for (auto& o : obs) o.noise_scale = 1.0;
+  const OutlierScreen as_hits = ScreenOutliers(X, y, obs, {});
+  EXPECT_LT(as_hits.sigma_um, 0.7);
+  int noisy_flagged = 0;
+  for (int i = 0; i < 1000; ++i) noisy_flagged += as_hits.flag[static_cast<std::size_t>(i)] != ScreenFlag::kKept;
+  std::printf("weighed as hits: sigma %.3f, %d of the noisy half flagged\n", as_hits.sigma_um, noisy_flagged);
+  EXPECT_GT(noisy_flagged, 0);
+}
+
 // The screen alone on 400 hits 1 mm apart along one feature, normal noise (seed 186), the model a
 // constant; in units of the screen's sigma: a burr of two hits tapering off, 5 and 2.85 (the
 // second below grow_z = 3 sigma, as a 2-hit burr at 5x noise often is), and a gross outlier of

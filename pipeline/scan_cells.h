@@ -7,8 +7,10 @@
 // What it keeps: every effect that is smooth over a cell. A cell of length L is a box filter;
 // it attenuates a profile harmonic of wavelength lambda by about (pi L / lambda)^2 / 6 (0.13 %
 // for a 5-lobe profile over a 2 deg cell) and leaves linear trends along the line exact. What it
-// changes: the noise of a cell is the CMM noise over sqrt(its points), and every count, RMS and
-// maximum downstream is per cell. Cells need scan order (a file in the order the CMM took the
+// changes: the noise of a cell is the CMM noise times its Observation::noise_scale, the line's
+// prediction error at the representative, sqrt(1 / k + t^2 / S_tt) for k points (about 1 / sqrt(k)):
+// cells of unequal size have unequal noise, which the diagnosis's noise tests weigh. Every
+// count, RMS and maximum downstream is per cell. Cells need scan order (a file in the order the CMM took the
 // points); points out of order just form cells of one, so a shuffled file is not reduced.
 #pragma once
 

@@ -106,7 +106,8 @@ void DiagnoseScreened(const kinematics::MachineModel& machine, const testpieces:
   out->noise_sigma_um = options.noise_um > 0
                             ? options.noise_um
                             : std::sqrt(std::max(0.0, final_model.ssr - final_model.reference_ss) /
-                                        std::max<double>(1.0, static_cast<double>(n - final_model.dof)));
+                                        std::max<double>(1.0, static_cast<double>(n - final_model.dof)) /
+                                        gap.mean_noise_scale2);
   step::SummariseGap(machine, mo, gap.r, out->noise_sigma_um, options, out, fit.reference_remaining_um);
   step::CompleteVerdict(in, out);
 }

@@ -287,7 +287,9 @@ struct DiagnosisResult {
   // With DiagnosisOptions::reference_free: RMS of the gap with the reference held entirely (only
   // the re-alignment fitted), before the parameters it disagrees on are refitted (um).
   std::optional<double> reference_held_rms_um;
-  double noise_sigma_um = 0.0;             // sigma used for "beyond noise" (given or estimated)
+  // sigma used for "beyond noise" (given or estimated), one probe hit's: a pooled scan cell's
+  // noise is this times its Observation::noise_scale, which every noise test weighs.
+  double noise_sigma_um = 0.0;
   // Leave-one-feature-out of the base fit: RMS over the features that can be held out, and those
   // that cannot (their points alone determine a direction of the base model and re-alignment).
   double cv_rms_um = 0.0, press_rms_um = 0.0;

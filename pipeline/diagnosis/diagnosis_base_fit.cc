@@ -202,6 +202,15 @@ void DescribeBaseModel(const BaseFit& fit, const DiagnosisOptions& options, bool
   }
 }
 
+Eigen::VectorXd NoiseScales(const testpieces::MeasuredObservations& mo) {
+  const auto& obs = mo.observations;
+  if (std::all_of(obs.begin(), obs.end(), [](const kinematics::Observation& o) { return o.noise_scale == 1.0; }))
+    return {};
+  Eigen::VectorXd scale(static_cast<Eigen::Index>(obs.size()));
+  for (std::size_t i = 0; i < obs.size(); ++i) scale(static_cast<Eigen::Index>(i)) = obs[i].noise_scale;
+  return scale;
+}
+
 BaseGap MakeBaseGap(const BaseFit& fit, const testpieces::MeasuredObservations& mo, double holdout_tolerance) {
   const auto& obs = mo.observations;
   const auto n = static_cast<Eigen::Index>(obs.size());
@@ -213,6 +222,11 @@ BaseGap MakeBaseGap(const BaseFit& fit, const testpieces::MeasuredObservations& 
   GroupCvResult cv = feature_cv.Evaluate(r);
   BaseGap gap{std::move(r), RowSquaredNorms(U), 0.0, 0.0, 0.0, std::move(feature_cv), std::move(cv), mo.feature_names};
   gap.ssr = gap.r.squaredNorm();
+  gap.noise_ssr = gap.ssr;
+  if (const Eigen::VectorXd scale = NoiseScales(mo); scale.size() > 0) {
+    gap.noise_ssr = gap.r.cwiseQuotient(scale).squaredNorm();
+    gap.mean_noise_scale2 = scale.squaredNorm() / static_cast<double>(scale.size());
+  }
   gap.rms_um = Rms(gap.r);
   gap.press_rms_um = Rms(Press(gap.r, gap.h));
   return gap;

@@ -90,7 +90,13 @@ struct BaseGap {
   GroupCrossValidation feature_cv;  // leave-one-feature-out on the base design
   GroupCvResult cv;                 // of the base fit alone
   std::vector<std::string> feature_names;
+  // Observations of unequal noise (Observation::noise_scale s_i): sum of (r_i / s_i)^2, in one
+  // hit's noise (um^2), and the mean of s_i^2; ssr and 1 for hits.
+  double noise_ssr = 0.0, mean_noise_scale2 = 1.0;
 };
+
+// Per observation its noise_scale (Observation::noise_scale), or empty when every one is 1 (hits).
+Eigen::VectorXd NoiseScales(const testpieces::MeasuredObservations& observations);
 
 BaseGap MakeBaseGap(const BaseFit& fit, const testpieces::MeasuredObservations& observations,
                     double holdout_tolerance);

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "core/units.h"
+#include "pipeline/diagnosis/diagnosis_base_fit.h"
 #include "pipeline/diagnosis/diagnosis_least_squares.h"
 
 namespace tpcal::pipeline::diagnosis_internal {
@@ -87,18 +88,34 @@ double SpreadZ(double ss, int k, double sigma, const Eigen::MatrixXd& Z) {
   return ChiSquareZ(ss * law.dof / law.mean_um2, law.dof);
 }
 
+// What the noise tests see: the gap and a reference's leftover factor with each row divided by its
+// observation's noise scale (noise of one hit's sigma at every observation); as given for hits.
+struct TestedGap {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd R;
+  bool scaled = false;
+};
+
+TestedGap Tested(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const Eigen::VectorXd& scale) {
+  if (scale.size() == 0) return {r0, R, false};
+  const Eigen::VectorXd inverse = scale.cwiseInverse();
+  return {r0.cwiseProduct(inverse), R.cols() > 0 ? Eigen::MatrixXd(inverse.asDiagonal() * R) : R, true};
+}
+
 // Per group: its statistics, and its excess over noise of sigma and what a reference's leftover
-// part (factor R, n x r; none: n x 0) adds, mean and spread (SpreadZ).
-void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen::MatrixXd& R,
-                const std::vector<double>& t_s, double sigma, double z_out, std::vector<GroupGap>* out,
-                std::vector<std::string>* standing, const std::string& prefix) {
+// part (factor R, n x r; none: n x 0) adds, mean and spread (SpreadZ), tested on r_test (r over
+// the noise scales; R's rows alike).
+void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen::VectorXd& r_test,
+                const Eigen::MatrixXd& R, const std::vector<double>& t_s, double sigma, double z_out,
+                std::vector<GroupGap>* out, std::vector<std::string>* standing, const std::string& prefix) {
   for (const auto& [name, idx] : groups) {
     GroupGap g;
     g.group = name;
     g.n_points = static_cast<int>(idx.size());
-    double ss = 0, sum = 0, tsum = 0;
+    double ss = 0, ss_test = 0, sum = 0, tsum = 0;
     for (auto i : idx) {
       ss += r(i) * r(i);
+      ss_test += r_test(i) * r_test(i);
       sum += r(i);
       tsum += t_s[static_cast<std::size_t>(i)];
       g.max_abs_um = std::max(g.max_abs_um, std::abs(r(i)));
@@ -107,7 +124,7 @@ void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen
     g.rms_um = std::sqrt(ss / n);
     g.mean_um = sum / n;
     g.mean_t_s = tsum / n;
-    g.z = sigma > 0 ? SpreadZ(ss, g.n_points, sigma, RowsOf(R, idx)) : 0.0;
+    g.z = sigma > 0 ? SpreadZ(ss_test, g.n_points, sigma, RowsOf(R, idx)) : 0.0;
     g.stands_out = g.z > z_out;
     if (g.stands_out) standing->push_back(prefix + name);
     out->push_back(g);
@@ -115,9 +132,10 @@ void GroupStats(const PointGroups& groups, const Eigen::VectorXd& r, const Eigen
 }
 
 // Linear trend of the gap with machining time (um per hour) and its uncertainty: of the noise
-// sigma s and of a reference's leftover part (factor R, n x r; none: n x 0).
-void FitDrift(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const std::vector<double>& t_s, double s,
-              DiagnosisResult* out) {
+// sigma s (times each observation's `scale`; empty: 1) and of a reference's leftover part
+// (factor R, n x r; none: n x 0).
+void FitDrift(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const Eigen::VectorXd& scale,
+              const std::vector<double>& t_s, double s, DiagnosisResult* out) {
   const auto n = r0.size();
   Eigen::MatrixXd T(n, 2);
   for (Eigen::Index i = 0; i < n; ++i) T(i, 0) = 1.0, T(i, 1) = t_s[static_cast<std::size_t>(i)] / 3600.0;
@@ -127,6 +145,8 @@ void FitDrift(const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, const std::ve
     out->drift_um_per_h = beta(1);
     const Eigen::Matrix2d inverse = TtT.inverse();
     out->drift_u_um_per_h = s * std::sqrt(inverse(1, 1));
+    if (scale.size() > 0)
+      out->drift_u_um_per_h = s * ((inverse * T.transpose()).row(1).transpose().cwiseProduct(scale)).norm();
     if (R.cols() > 0) {
       const Eigen::RowVectorXd slope = (inverse * T.transpose()).row(1) * R;  // um/h per factor column
       out->drift_u_um_per_h = std::hypot(out->drift_u_um_per_h, slope.norm());
@@ -238,28 +258,34 @@ double RayleighEquivalentZ(double energy_um2, double sigma, const Eigen::MatrixX
 // C^-1 (a, b)^T, C the (a, b) block of (X^T X)^-1, z = sqrt(energy) / s: m A^2 / 2 and
 // A / (s sqrt(2 / m)) on m equally spaced points. With a reference's leftover factor R (n x r),
 // each order's share of it, whitened as the energy is (L^-1 G R_idx, C = L L^T, G the order's
-// rows of the gain), and z is RayleighEquivalentZ. Appended to *all and *ref_z (2 x 0 without).
+// rows of the gain), and z is RayleighEquivalentZ. Amplitude and phase are r0's; energy, z and
+// R's share are of `test` (r0 over the noise scales, R's rows alike: TestedGap). Appended to *all
+// and *ref_z (2 x 0 without).
 void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& idx,
                       const std::vector<kinematics::Observation>& obs, const Eigen::VectorXd& r0,
-                      const Eigen::MatrixXd& R, double s, int max_harmonic, std::vector<HarmonicGap>* all,
+                      const TestedGap& test, double s, int max_harmonic, std::vector<HarmonicGap>* all,
                       std::vector<Eigen::MatrixXd>* ref_z) {
+  const Eigen::MatrixXd& R = test.R;
   const Eigen::Vector3d c = ProfileCentre(idx, obs);
   if (!IsCircularProfile(idx, obs, c)) return;
   std::vector<double> phi(idx.size());
-  Eigen::VectorXd y(static_cast<Eigen::Index>(idx.size()));
+  Eigen::VectorXd y(static_cast<Eigen::Index>(idx.size())), y_test(y.size());
   for (std::size_t row = 0; row < idx.size(); ++row) {
     const Eigen::Vector3d d = obs[static_cast<std::size_t>(idx[row])].cut.nominal_point_mm - c;
     phi[row] = std::atan2(d.y(), d.x());
     y(static_cast<Eigen::Index>(row)) = r0(idx[row]);
+    y_test(static_cast<Eigen::Index>(row)) = test.r(idx[row]);
   }
-  Eigen::VectorXd coef;
+  Eigen::VectorXd coef, coef_test;
   Eigen::MatrixXd cov, gain;
   int kmax = std::min<int>(max_harmonic, DistinctAzimuths(phi) / 2 - 1);
   while (kmax >= 1 && !FitOrders(phi, y, kmax, &coef, &cov, R.cols() > 0 ? &gain : nullptr)) --kmax;
+  if (kmax >= 1 && test.scaled) FitOrders(phi, y_test, kmax, &coef_test, &cov, nullptr);
+  const Eigen::VectorXd& tested = test.scaled ? coef_test : coef;
   const Eigen::MatrixXd R_idx = RowsOf(R, idx);
   for (int k = 1; k <= kmax; ++k) {
-    const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k));
-    const double energy = ab.dot(cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse() * ab);
+    const Eigen::Vector2d ab(coef(2 * k - 1), coef(2 * k)), ab_test(tested(2 * k - 1), tested(2 * k));
+    const double energy = ab_test.dot(cov.block<2, 2>(2 * k - 1, 2 * k - 1).inverse() * ab_test);
     HarmonicGap h{name, k, ab.norm(), RadToDeg(std::atan2(ab.y(), ab.x())), 0.0, false, energy};
     h.z = s > 0 ? std::sqrt(energy) / s : 0.0;
     Eigen::MatrixXd Z(2, 0);
@@ -283,8 +309,9 @@ void ProfileHarmonics(const std::string& name, const std::vector<Eigen::Index>& 
 // With a reference's leftover factor R, S_k's law is SatterthwaiteLaw's over the orders' stacked
 // whitened factors `ref_z`, and the residual's share of R is taken off its sum of squares.
 void PooledHarmonics(const std::vector<HarmonicGap>& all, const std::vector<Eigen::MatrixXd>& ref_z,
-                     const PointGroups& by_feature, const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, double s,
-                     DiagnosisResult* out) {
+                     const PointGroups& by_feature, const TestedGap& test, double s, DiagnosisResult* out) {
+  const Eigen::VectorXd& r0 = test.r;
+  const Eigen::MatrixXd& R = test.R;
   double ssr = 0.0, n = 0.0, ref_ss = 0.0;
   for (const auto& [name, idx] : by_feature)
     if (idx.size() >= 8) {
@@ -330,19 +357,19 @@ void PooledHarmonics(const std::vector<HarmonicGap>& all, const std::vector<Eige
 // C harmonics of every circular profile (a feature of at least 8 points), and which stand out;
 // R: a reference's leftover factor (n x r; none: n x 0).
 void CircularHarmonics(const PointGroups& by_feature, const std::vector<kinematics::Observation>& obs,
-                       const Eigen::VectorXd& r0, const Eigen::MatrixXd& R, double s, int max_harmonic,
+                       const Eigen::VectorXd& r0, const TestedGap& test, double s, int max_harmonic,
                        DiagnosisResult* out) {
   std::vector<HarmonicGap> all;
   std::vector<Eigen::MatrixXd> ref_z;
   for (const auto& [name, idx] : by_feature)
-    if (idx.size() >= 8) ProfileHarmonics(name, idx, obs, r0, R, s, max_harmonic, &all, &ref_z);
+    if (idx.size() >= 8) ProfileHarmonics(name, idx, obs, r0, test, s, max_harmonic, &all, &ref_z);
   // Rayleigh tail with a Bonferroni bound at 1 %: P(z > t) = exp(-t^2 / 2) per test.
   const double t = all.empty() ? 0.0 : std::sqrt(2.0 * std::log(static_cast<double>(all.size()) / 0.01));
   for (auto& h : all) {
     h.stands_out = h.z > t;
     if (h.stands_out) out->standing_out.push_back("feature " + h.feature + " harmonic " + std::to_string(h.order));
   }
-  PooledHarmonics(all, ref_z, by_feature, r0, R, s, out);
+  PooledHarmonics(all, ref_z, by_feature, test, s, out);
   out->harmonics = std::move(all);
 }
 
@@ -355,11 +382,13 @@ void SummariseGap(const kinematics::MachineModel& machine, const testpieces::Mea
   const double z = options.stand_out_z;
   const Eigen::MatrixXd& R = reference_remaining_um;  // no column: none (any row count)
   assert(R.cols() == 0 || R.rows() == r0.size());
-  GroupStats(groups.by_feature, r0, R, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
-  GroupStats(groups.by_op, r0, R, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
-  GroupStats(groups.by_a, r0, R, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
-  FitDrift(r0, R, groups.t_s, s, out);
-  CircularHarmonics(groups.by_feature, mo.observations, r0, R, s, options.max_harmonic, out);
+  const Eigen::VectorXd scale = NoiseScales(mo);
+  const TestedGap test = Tested(r0, R, scale);
+  GroupStats(groups.by_feature, r0, test.r, test.R, groups.t_s, s, z, &out->by_feature, &out->standing_out, "feature ");
+  GroupStats(groups.by_op, r0, test.r, test.R, groups.t_s, s, z, &out->by_operation, &out->standing_out, "");
+  GroupStats(groups.by_a, r0, test.r, test.R, groups.t_s, s, z, &out->by_a_index, &out->standing_out, "");
+  FitDrift(r0, R, scale, groups.t_s, s, out);
+  CircularHarmonics(groups.by_feature, mo.observations, r0, test, s, options.max_harmonic, out);
 }
 
 }  // namespace tpcal::pipeline::diagnosis_internal

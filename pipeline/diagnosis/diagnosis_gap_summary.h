@@ -16,6 +16,9 @@ namespace tpcal::pipeline::diagnosis_internal {
 // harmonics). With a reference's own uncertainty (its leftover factor off the fitted columns,
 // BaseFit::reference_remaining_um: n x r, um; no column: none), every test weighs the variance
 // it adds, mean and spread (SatterthwaiteLaw), and the drift's u holds its share.
+// Observations of unequal noise (pooled scan cells, Observation::noise_scale s_i): sigma_um is one
+// hit's, the tests weigh r_i / s_i (and the factor's rows / s_i), the statistics (RMS, mean, maximum,
+// amplitude, phase, drift) are of the gap itself, and the drift's u holds each s_i.
 void SummariseGap(const kinematics::MachineModel& machine, const testpieces::MeasuredObservations& observations,
                   const Eigen::VectorXd& gap_um, double sigma_um, const DiagnosisOptions& options,
                   DiagnosisResult* out, const Eigen::MatrixXd& reference_remaining_um = Eigen::MatrixXd());

@@ -385,7 +385,7 @@ namespace {
 constexpr double kExcessRatio = 1.15;
 
 // p-value of "the base gap is noise of the neighbour sigma": F = (SSR / dof) / sigma^2 against
-// the MAD's effective degrees of freedom (0.37 n). With a reference's leftover uncertainty (its
+// the MAD's effective degrees of freedom (0.37 n); SSR in one hit's noise (BaseGap::noise_ssr). With a reference's leftover uncertainty (its
 // factor, off every fitted column) SSR's law is SatterthwaiteLaw's of noise on dof and that
 // factor: F = SSR / its mean on its d and the mean's own (EstimatedMeanDof).
 double ExcessPValue(const VerdictInputs& in, double sigma_um) {
@@ -393,8 +393,8 @@ double ExcessPValue(const VerdictInputs& in, double sigma_um) {
   const double dof = n - in.fit.basis.rank;
   if (sigma_um <= 0 || dof <= 0) return 1.0;
   const Eigen::MatrixXd& R = in.fit.reference_remaining_um;
-  if (R.cols() == 0) return FUpperTail((in.gap.ssr / dof) / (sigma_um * sigma_um), dof, 0.37 * n);
-  const double s2 = sigma_um * sigma_um;
+  if (R.cols() == 0) return FUpperTail((in.gap.noise_ssr / dof) / (sigma_um * sigma_um), dof, 0.37 * n);
+  const double s2 = sigma_um * sigma_um * in.gap.mean_noise_scale2;
   const ChiSquareLaw law = SatterthwaiteLaw(static_cast<int>(dof), s2, R);
   return FUpperTail(in.gap.ssr / law.mean_um2, law.dof, EstimatedMeanDof(law, static_cast<int>(dof), s2, 0.37 * n));
 }
@@ -430,7 +430,8 @@ void CompleteVerdict(const VerdictInputs& in, DiagnosisResult* out) {
   // The gap is that of the points kept: a local defect's points are left out, so what still stands
   // out lies elsewhere (a bent part flags patches and more).
   const double n = static_cast<double>(in.gap.r.size());
-  const double rms_beyond_reference_um = std::sqrt(SsrBeyondReference(in.fit, in.gap.ssr) / n);
+  const double rms_beyond_reference_um =
+      std::sqrt(SsrBeyondReference(in.fit, in.gap.ssr) / n / in.gap.mean_noise_scale2);
   const bool excess =
       out->excess_p_value < in.options.alpha && rms_beyond_reference_um > kExcessRatio * out->neighbour_sigma_um;
   if (!out->local_defects.empty() && out->standing_out.empty() && !excess) {

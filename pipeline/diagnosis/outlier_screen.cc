@@ -76,24 +76,6 @@ Eigen::VectorXd TrimmedResiduals(const TrimmedFit& t, const std::vector<bool>& f
   return t.y - t.Q * (eig.eigenvectors() * z);
 }
 
-// d_i = r_i - median of its neighbours' r; sigma from the MAD of d_i / sqrt(1 + v_k).
-void NeighbourDeviations(const Eigen::VectorXd& r, const std::vector<std::vector<int>>& nb, double min_sigma_um,
-                         OutlierScreen* s) {
-  s->neighbour_dev_um = Eigen::VectorXd::Zero(r.size());
-  std::vector<double> scaled, v;
-  scaled.reserve(static_cast<std::size_t>(r.size()));
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
-    const auto& list = nb[static_cast<std::size_t>(i)];
-    if (list.empty()) continue;
-    v.clear();
-    for (int j : list) v.push_back(r(j));
-    s->neighbour_dev_um(i) = r(i) - MedianInPlace(v);
-    scaled.push_back(std::abs(s->neighbour_dev_um(i)) / std::sqrt(1.0 + MedianVariance(list.size())));
-  }
-  s->sigma_dof = 0.37 * static_cast<double>(scaled.size());
-  s->sigma_um = scaled.size() >= 10 ? std::max(min_sigma_um, 1.4826 * Median(scaled)) : 0.0;
-}
-
 // Connected components (same sign as their seed, through the symmetric neighbour graph) of the
 // points with seed(i), grown from a member a through the points b with join(b, a).
 template <typename Seed, typename Join>
@@ -148,6 +130,36 @@ struct ScreenContext {
   const Eigen::MatrixXd& R;
 };
 
+// Observation i's noise sigma relative to one probe hit's (Observation::noise_scale).
+double Scale(const ScreenContext& c, int i) { return c.obs[static_cast<std::size_t>(i)].noise_scale; }
+
+// The variance of point i's departure from the median of its neighbours, in units of one hit's
+// sigma^2: its own and the median's (v_k times its neighbours' mean; 1 + v_k for hits).
+double DepartureVariance(const ScreenContext& c, int i) {
+  const auto& list = c.nb[static_cast<std::size_t>(i)];
+  double around = 0.0;
+  for (int j : list) around += Scale(c, j) * Scale(c, j);
+  around /= static_cast<double>(list.size());
+  return Scale(c, i) * Scale(c, i) + MedianVariance(list.size()) * around;
+}
+
+// d_i = r_i - median of its neighbours' r; sigma (one hit's) from the MAD of d_i / sqrt(DepartureVariance).
+void NeighbourDeviations(const ScreenContext& c, const Eigen::VectorXd& r, double min_sigma_um, OutlierScreen* s) {
+  s->neighbour_dev_um = Eigen::VectorXd::Zero(r.size());
+  std::vector<double> scaled, v;
+  scaled.reserve(static_cast<std::size_t>(r.size()));
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const auto& list = c.nb[static_cast<std::size_t>(i)];
+    if (list.empty()) continue;
+    v.clear();
+    for (int j : list) v.push_back(r(j));
+    s->neighbour_dev_um(i) = r(i) - MedianInPlace(v);
+    scaled.push_back(std::abs(s->neighbour_dev_um(i)) / std::sqrt(DepartureVariance(c, static_cast<int>(i))));
+  }
+  s->sigma_dof = 0.37 * static_cast<double>(scaled.size());
+  s->sigma_um = scaled.size() >= 10 ? std::max(min_sigma_um, 1.4826 * Median(scaled)) : 0.0;
+}
+
 // What a reference's leftover uncertainty adds to the variance of the sum of the residuals over
 // `comp` (|sum of R's rows|^2, um^2; 0 without one).
 double ReferenceVariance(const ScreenContext& c, const std::vector<int>& comp) {
@@ -166,12 +178,13 @@ double ReferenceDepartureVariance(const ScreenContext& c, int i) {
   return (c.R.row(i) - around).squaredNorm();
 }
 
-// A component's departure in units of its standard deviation: |sum of r| / sqrt(m) over sigma, with
-// what a reference's leftover uncertainty adds (|r| / sigma for one point without one).
+// A component's departure in units of its standard deviation: |sum of r| / sqrt(m) over sigma (m:
+// the members' summed noise_scale^2, their count for hits), with what a reference's leftover
+// uncertainty adds (|r| / sigma for one hit without one).
 double FaultZ(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp) {
-  double sum = 0.0;
-  for (int i : comp) sum += s.residual_um(i);
-  const double m = static_cast<double>(comp.size()), s2 = s.sigma_um * s.sigma_um;
+  double sum = 0.0, m = 0.0;
+  for (int i : comp) sum += s.residual_um(i), m += Scale(c, i) * Scale(c, i);
+  const double s2 = s.sigma_um * s.sigma_um;
   return std::abs(sum) / (std::sqrt(m) * s.sigma_um * std::sqrt(1.0 + ReferenceVariance(c, comp) / (m * s2)));
 }
 
@@ -188,9 +201,10 @@ bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<i
   if (n_g < 3) return false;
   if (comp.size() == 1) {
     const int i = comp.front();
-    const double v = MedianVariance(c.nb[static_cast<std::size_t>(i)].size()), s2 = s.sigma_um * s.sigma_um;
+    const double s2 = s.sigma_um * s.sigma_um;
     return FaultZ(c, s, comp) > c.o.seed_z &&
-           std::abs(s.neighbour_dev_um(i)) > c.o.seed_z * s.sigma_um * std::sqrt(1.0 + v + ReferenceDepartureVariance(c, i) / s2);
+           std::abs(s.neighbour_dev_um(i)) >
+               c.o.seed_z * s.sigma_um * std::sqrt(DepartureVariance(c, i) + ReferenceDepartureVariance(c, i) / s2);
   }
   return static_cast<double>(comp.size()) <= MaxPatchSize(c, comp) && FaultZ(c, s, comp) > c.o.seed_z;
 }
@@ -214,7 +228,7 @@ std::vector<int> Core(const ScreenContext& c, const Eigen::VectorXd& r, const st
 // noise-free error motion reach far beyond seed_z).
 bool WeakRim(const ScreenContext& c, const OutlierScreen& s, const std::vector<int>& comp, const std::vector<int>& core) {
   for (int i : comp)
-    if (std::find(core.begin(), core.end(), i) == core.end() && std::abs(s.residual_um(i)) > c.o.seed_z * s.sigma_um)
+    if (std::find(core.begin(), core.end(), i) == core.end() && std::abs(s.residual_um(i)) > c.o.seed_z * s.sigma_um * Scale(c, i))
       return false;
   return true;
 }
@@ -234,11 +248,13 @@ std::size_t FlaggedBeside(const ScreenContext& c, const Eigen::VectorXd& r, cons
 // The faults among the points not yet flagged, from this round's residuals.
 std::vector<std::vector<int>> NewFaults(const ScreenContext& c, const OutlierScreen& s, const std::vector<bool>& flagged) {
   const Eigen::VectorXd& r = s.residual_um;
-  auto seeds = [&](int i) { return !flagged[static_cast<std::size_t>(i)] && std::abs(r(i)) > c.o.grow_z * s.sigma_um; };
-  const double floor_um = c.o.join_floor_z * s.sigma_um;
+  auto seeds = [&](int i) {
+    return !flagged[static_cast<std::size_t>(i)] && std::abs(r(i)) > c.o.grow_z * s.sigma_um * Scale(c, i);
+  };
   auto joins = [&](int b, int a) {
     const double rb = std::abs(r(b));
-    return seeds(b) || (!flagged[static_cast<std::size_t>(b)] && rb > floor_um && rb >= c.o.join_ratio * std::abs(r(a)));
+    return seeds(b) || (!flagged[static_cast<std::size_t>(b)] && rb > c.o.join_floor_z * s.sigma_um * Scale(c, b) &&
+                        rb >= c.o.join_ratio * std::abs(r(a)));
   };
   std::vector<std::vector<int>> out;
   auto grows_no_patch = [&](const std::vector<int>& f) {
@@ -356,7 +372,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   std::vector<bool> flagged(observations.size(), false);
   for (s.rounds = 1;; ++s.rounds) {
     s.residual_um = TrimmedResiduals(fit, flagged);
-    NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
+    NeighbourDeviations(c, s.residual_um, options.min_sigma_um, &s);
     if (s.sigma_um <= 0 || s.rounds > kMaxRounds) break;
     const std::vector<std::vector<int>> faults = NewFaults(c, s, flagged);
     if (faults.empty()) break;
@@ -367,7 +383,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   if (s.sigma_um > 0 && FinalFlags(c, flagged, &s)) {
     for (std::size_t i = 0; i < flagged.size(); ++i) flagged[i] = s.flag[i] != ScreenFlag::kKept;
     s.residual_um = TrimmedResiduals(fit, flagged);
-    NeighbourDeviations(s.residual_um, c.nb, options.min_sigma_um, &s);
+    NeighbourDeviations(c, s.residual_um, options.min_sigma_um, &s);
   }
   return s;
 }

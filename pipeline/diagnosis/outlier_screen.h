@@ -9,7 +9,9 @@
 // of r over the k nearest points of the same feature (nominal positions, feature_neighbours.h),
 // sigma = 1.4826 median |d_i| / sqrt(1 + v_k), v_k the variance of that median in units of
 // sigma^2 (0.298 for k = 4). A smooth effect the model lacks hardly enters d, so sigma stays the
-// CMM's noise when the model is incomplete (DiagnosisResult::neighbour_sigma_um).
+// CMM's noise when the model is incomplete (DiagnosisResult::neighbour_sigma_um). Observations
+// of unequal noise (pooled scan cells, Observation::noise_scale s_i) are judged against sigma s_i,
+// d_i against sigma sqrt(s_i^2 + v_k times its neighbours' mean s^2), and sigma is one hit's.
 // Faults: components of same-sign neighbours beyond grow_z sigma (or beyond join_floor_z sigma
 // and at least join_ratio of the member they touch: a tapering patch). One point is an outlier when
 // |r_i| and its departure from its neighbours |d_i| / sqrt(1 + v_k) both exceed seed_z sigma;
