@@ -26,6 +26,8 @@
 #include "gdt/inspection.h"
 #include "kinematics/error_parameters.h"
 #include "pipeline/diagnosis/diagnosis.h"
+#include "pipeline/identified_gap.h"
+#include "pipeline/identify_stage.h"
 #include "pipeline/testing/turning_fixture.h"
 #include "testpieces/point_association.h"
 #include "testpieces/simulate_piece.h"
@@ -170,6 +172,17 @@ struct DenseIdentification {
   std::size_t cells = 0;
 };
 
+// The simulated plan lists each circle point by point: scan lines 0.25 deg apart on the faces
+// (0.2 to 0.7 mm), 0.5 deg in the holes.
+testpieces::ProbingOptions DenseProbing() {
+  testpieces::ProbingOptions dense;
+  dense.points_per_circle = 1440;
+  dense.levels_per_face = 4;
+  dense.points_per_hole = 720;
+  dense.levels_per_hole = 4;
+  return dense;
+}
+
 struct DenseScan {
   testpieces::MeasuredObservations per_point;
   std::optional<ScanCells> cells;
@@ -181,14 +194,7 @@ DenseScan ScanDensely(const std::map<std::string, double>& truth, double noise_u
   sim.noise_um = noise_um;
   sim.seed = seed;
   sim.random_placement = true;
-  testpieces::ProbingOptions dense;
-  // The simulated plan lists each circle point by point: scan lines 0.25 deg apart on the faces
-  // (0.2 to 0.7 mm), 0.5 deg in the holes.
-  dense.points_per_circle = 1440;
-  dense.levels_per_face = 4;
-  dense.points_per_hole = 720;
-  dense.levels_per_hole = 4;
-  sim.density = dense;
+  sim.density = DenseProbing();
   const auto piece = Turning();
   auto points = testpieces::SimulatePiece(piece, AcTable(), ToErrorState(truth), sim);
   EXPECT_TRUE(points.ok()) << points.status().ToString();
@@ -269,27 +275,36 @@ TEST(ScanCells, DenseScanWithNoiseKeepsTheInformation) {
   }
 }
 
-// The diagnosis of the cells of a noisy dense scan as above (1 um per hit, seed 9; cells of 1 to 7
-// hits, so their noise differs by up to sqrt 7), the errors a fifth of Table 2's random ones (2 to
-// 10 um / urad: their second-order terms, up to offset^2 / 4 R = 0.003 um on a hole, stay below
-// what 1.3e5 hits resolve). Truth: nothing beyond noise, one hit's noise sigma 1 um: estimated
-// within 3 % (the cells' residual has ~2e4 degrees of freedom: 0.5 % standard error; the rest is
-// the line's prediction at representatives off the cell's middle). Weighing every cell as one hit
-// instead, the sigma is an average cell's (measured: 0.41 um) and groups of small cells stand out
-// (3 groups; verdict unexplained).
+// `tpcal run`'s identification and diagnosis (RunIdentifyStage, DiagnoseIdentified) of a noisy
+// dense scan as above (1 um per hit, seed 9, random Table 2 errors of 10-50 um / urad), pooled
+// into cells of 1 to 7 hits, so their noise differs by up to sqrt 7. Truth: nothing beyond noise,
+// one hit's noise sigma 1 um: estimated within 3 % (the cells' residual has ~2e4 degrees of
+// freedom: 0.5 % standard error; the rest is the line's prediction at representatives off the
+// cell's middle). Weighing every cell as one hit instead, the sigma is an average cell's
+// (measured: 0.41 um) and groups of small cells stand out (4; verdict unexplained).
 TEST(ScanCells, DiagnosisOfCellsWeighsTheirNoise) {
   std::mt19937_64 rng(7);
-  auto truth = RandomTable2(rng);
-  for (auto& [name, value] : truth) value *= 0.2;
-  DenseScan scan = ScanDensely(truth, 1.0, 9);
-  ASSERT_TRUE(scan.cells.has_value());
-  auto d = DiagnoseObservations(Turning(), AcTable(), scan.cells->observations);
+  const auto truth = RandomTable2(rng);
+  testpieces::PieceSimOptions sim;
+  sim.noise_um = 1.0;
+  sim.seed = 9;
+  sim.random_placement = true;
+  sim.density = DenseProbing();
+  auto points = testpieces::SimulatePiece(Turning(), AcTable(), ToErrorState(truth), sim);
+  ASSERT_TRUE(points.ok()) << points.status().ToString();
+  IdentifyStageOptions options;
+  options.scan_cells.above_points = 1;
+  options.scan_cells.target_cells = 20000;
+  auto stage = RunIdentifyStage(Turning(), AcTable(), points->points, options);
+  ASSERT_TRUE(stage.ok()) << stage.status().ToString();
+  ASSERT_TRUE(stage->scan_cells.has_value());
+  auto d = DiagnoseIdentified(Turning(), AcTable(), *stage, points->points, {});
   ASSERT_TRUE(d.ok()) << d.status().ToString();
   EXPECT_EQ(d->verdict.family, "none") << d->verdict.name;
   EXPECT_TRUE(d->standing_out.empty()) << d->standing_out.front();
   EXPECT_NEAR(d->noise_sigma_um, 1.0, 0.03);
-  for (auto& o : scan.cells->observations.observations) o.noise_scale = 1.0;
-  auto unweighed = DiagnoseObservations(Turning(), AcTable(), scan.cells->observations);
+  for (auto& o : stage->observations.observations) o.noise_scale = 1.0;
+  auto unweighed = DiagnoseIdentified(Turning(), AcTable(), *stage, points->points, {});
   ASSERT_TRUE(unweighed.ok());
   std::printf("cells weighed as hits: sigma %.3f um, %zu groups standing out, verdict %s\n",
               unweighed->noise_sigma_um, unweighed->standing_out.size(), unweighed->verdict.family.c_str());
