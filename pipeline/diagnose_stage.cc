@@ -62,10 +62,10 @@ std::map<std::string, std::string> DiagnosisInputs(const DiagnoseRequest& r, boo
 }
 
 // A dense file (above ScanCellOptions::above_points) is associated, re-aligned and pooled into
-// scan-line cells as `tpcal run` does (RunIdentifyStage with analytic u, DiagnoseIdentified). Point
+// cells as `tpcal run` does (RunIdentifyStage with analytic u, DiagnoseIdentified). Point
 // by point in the GD&T datum frame a 2e6-point scan took 64 s and 9.9 GB, and on shifted holes
 // the frame's linear re-alignment misses t^2 / 2R: a clean dense scan read probe_radius. Sets
-// *cells to "N points in M scan-line cells" when pooled.
+// *cells to "N points in M scan-line cells" (or "... cells of a fixed grid ...") when pooled.
 Result<DiagnosisResult> DiagnoseDense(const LoadedPiece& setup, const PointSet& points, const DiagnosisOptions& options,
                                       std::string* cells) {
   IdentifyStageOptions stage_options;
@@ -74,7 +74,9 @@ Result<DiagnosisResult> DiagnoseDense(const LoadedPiece& setup, const PointSet& 
   auto stage = RunIdentifyStage(setup.piece, setup.machine, points, stage_options);
   if (!stage.ok()) return stage.status();
   if (stage->scan_cells)
-    *cells = fmt::format("{} points in {} scan-line cells", stage->scan_cells->num_points, stage->scan_cells->num_cells);
+    *cells = fmt::format("{} points in {} {}", stage->scan_cells->num_points, stage->scan_cells->num_cells,
+                         stage->scan_cells->on_grid ? "cells of a fixed grid (the file is not in scan order)"
+                                                    : "scan-line cells");
   return DiagnoseIdentified(setup.piece, setup.machine, *stage, points, options);
 }
 

@@ -104,7 +104,8 @@ ScanCellsSummary ScanCellsSummaryOf(const ScanCellSummary& c) {
           .mean_points_per_cell = c.mean_points_per_cell,
           .max_points_per_cell = c.points_per_cell_max,
           .max_cell_mm = c.max_cell_mm,
-          .max_cell_deg = c.max_cell_deg};
+          .max_cell_deg = c.max_cell_deg,
+          .on_grid = c.on_grid};
 }
 
 }  // namespace

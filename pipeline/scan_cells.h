@@ -2,16 +2,23 @@
 // scan line (same feature, same operation, neighbours in space and in cutting time) are pooled
 // into short cells, each replaced by one observation: the cut of the member nearest the cell's
 // centroid, measured at the deviation a straight line fitted to the members' normal deviations
-// (n0 . (m - p0), against the distance along the cell) predicts there.
+// (n0 . (m - p0), against the distance along the cell) predicts there. The line is fitted to the
+// deviations less their feature's smooth part (a quadratic in the nominal position fitted to all
+// the feature's points: a hole's offset, tilt and oval, a face's bow), added back at the
+// representative.
 //
-// What it keeps: every effect that is smooth over a cell. A cell of length L is a box filter;
-// it attenuates a profile harmonic of wavelength lambda by about (pi L / lambda)^2 / 6 (0.13 %
-// for a 5-lobe profile over a 2 deg cell) and leaves linear trends along the line exact. What it
-// changes: the noise of a cell is the CMM noise times its Observation::noise_scale, the line's
-// prediction error at the representative, sqrt(1 / k + t^2 / S_tt) for k points (about 1 / sqrt(k)):
-// cells of unequal size have unequal noise, which the diagnosis's noise tests weigh. Every
-// count, RMS and maximum downstream is per cell. Cells need scan order (a file in the order the CMM took the
-// points); points out of order just form cells of one, so a shuffled file is not reduced.
+// What it keeps: every effect that is smooth over a cell. A cell of length L is a box filter of
+// what the feature's quadratic leaves; it attenuates a profile harmonic of wavelength lambda by
+// about (pi L / lambda)^2 / 6 (0.13 % for a 5-lobe profile over a 2 deg cell) and leaves linear
+// trends along the line exact. What it changes: the noise of a cell is the CMM noise times its
+// Observation::noise_scale, the line's prediction error at the representative, sqrt(1 / k +
+// t^2 / S_tt) for k points (about 1 / sqrt(k)): cells of unequal size have unequal noise, which
+// the diagnosis's noise tests weigh. Every count, RMS and maximum downstream is per cell. Cells
+// follow scan order (a file in the order the CMM took the points). A file that is not
+// (consecutive points pool fewer than 3 a cell) is pooled on a fixed grid instead: one cell per
+// bin of feature, operation, feed direction, cutting-time window, axis commands, nominal point
+// and normal (the caps as bin widths, half the normal turn), split at the points cap, its value
+// that of a line or plane fitted over the directions its members span (noise_scale alike).
 #pragma once
 
 #include <cstddef>
@@ -51,6 +58,7 @@ struct ScanCells {
   std::size_t points_per_cell_max = 0;      // the cap used
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
+  bool on_grid = false;                     // cells of a fixed grid (the file not in scan order)
 };
 
 // What a run reports of the reduction.
@@ -61,6 +69,7 @@ struct ScanCellSummary {
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
   double mean_points_per_cell = 0.0;
+  bool on_grid = false;
 };
 ScanCellSummary Summarise(const ScanCells& cells);
 

@@ -82,7 +82,11 @@ std::string RunReportJson(const RunReport& r) {
                                   {"max_points_per_cell", c.max_points_per_cell},
                                   {"max_cell_mm", c.max_cell_mm},
                                   {"max_cell_deg", c.max_cell_deg},
-                                  {"note", "identification and diagnosis ran on one observation per scan-line cell"}};
+                                  {"layout", c.on_grid ? "grid" : "scan_line"},
+                                  {"note", c.on_grid ? "identification and diagnosis ran on one observation per grid "
+                                                       "cell (the file is not in scan order)"
+                                                     : "identification and diagnosis ran on one observation per "
+                                                       "scan-line cell"}};
   }
   if (r.raw_scan) {
     const RawScanSummary& l = *r.raw_scan;

@@ -67,6 +67,7 @@ struct ScanCellsSummary {
   std::size_t max_points_per_cell = 0;
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
+  bool on_grid = false;  // grid cells: the file was not in scan order
 };
 
 struct RunReport {
