@@ -172,7 +172,9 @@ struct HarmonicGap {
   double amplitude_um = 0.0, phase_deg = 0.0;
   double z = 0.0;            // sqrt(energy_um2) / sigma: amplitude / sigma sqrt(2 / n) on n equally spaced points
   bool stands_out = false;   // z beyond the Bonferroni 1 % Rayleigh bound over every profile's orders
-  double energy_um2 = 0.0;   // the gap's sum of squares along this order given the others (n A^2 / 2 equally spaced)
+  // The gap's sum of squares along this order given the others (n A^2 / 2 equally spaced); of the
+  // gap over the noise scales for pooled scan cells (Observation::noise_scale), as z is.
+  double energy_um2 = 0.0;
 };
 
 struct EffectParameter {
