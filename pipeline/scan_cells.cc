@@ -34,8 +34,9 @@ double NormalDeviation_mm(const kinematics::Observation& o) {
 // feature's centroid, in units of its RMS extent) fitted by least squares to all its points. A
 // cell's line is fitted to the deviations less it, so that the curvature of what the quadratic
 // holds (a hole's offset and tilt: harmonics 0 to 2, a face's bow) is not filtered: 25 um of raw
-// hole offset over a 10 deg cell is otherwise attenuated by 0.13 %, a 30 nm first harmonic the
-// same on every hole, which the diagnosis of 2e6 points finds (p = 4e-11 on the bench scan).
+// hole offset over a 10 deg cell is otherwise attenuated by 0.13 % (30 nm); the base fit takes
+// most of it back and leaves a first harmonic of about 8 nm in one phase on every hole, which
+// the diagnosis of 2e6 points finds (p = 4e-11 on the bench scan).
 class FeatureTrends {
  public:
   using Terms = Eigen::Matrix<double, 10, 1>;
