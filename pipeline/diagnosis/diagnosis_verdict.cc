@@ -385,9 +385,10 @@ namespace {
 constexpr double kExcessRatio = 1.15;
 
 // p-value of "the base gap is noise of the neighbour sigma": F = (SSR / dof) / sigma^2 against
-// the MAD's effective degrees of freedom (0.37 n); SSR in one hit's noise (BaseGap::noise_ssr). With a reference's leftover uncertainty (its
-// factor, off every fitted column) SSR's law is SatterthwaiteLaw's of noise on dof and that
-// factor: F = SSR / its mean on its d and the mean's own (EstimatedMeanDof).
+// the MAD's effective degrees of freedom (0.37 n); SSR in one hit's noise (BaseGap::noise_ssr).
+// With a reference's leftover uncertainty (its factor, off every fitted column) SSR's law is
+// SatterthwaiteLaw's of noise on dof and that factor: F = SSR / its mean on its d and the mean's
+// own (EstimatedMeanDof); pooled cells there by their mean noise scale^2.
 double ExcessPValue(const VerdictInputs& in, double sigma_um) {
   const auto n = static_cast<double>(in.gap.r.size());
   const double dof = n - in.fit.basis.rank;

@@ -128,6 +128,7 @@ struct ScreenContext {
   std::map<int, int> group_size;
   const OutlierScreenOptions& o;
   const Eigen::MatrixXd& R;
+  std::vector<double> departure_var;  // per observation: DepartureVarianceOf, computed once
 };
 
 // Observation i's noise sigma relative to one probe hit's (Observation::noise_scale).
@@ -135,13 +136,15 @@ double Scale(const ScreenContext& c, int i) { return c.obs[static_cast<std::size
 
 // The variance of point i's departure from the median of its neighbours, in units of one hit's
 // sigma^2: its own and the median's (v_k times its neighbours' mean; 1 + v_k for hits).
-double DepartureVariance(const ScreenContext& c, int i) {
+double DepartureVarianceOf(const ScreenContext& c, int i) {
   const auto& list = c.nb[static_cast<std::size_t>(i)];
   double around = 0.0;
   for (int j : list) around += Scale(c, j) * Scale(c, j);
   around /= static_cast<double>(list.size());
   return Scale(c, i) * Scale(c, i) + MedianVariance(list.size()) * around;
 }
+
+double DepartureVariance(const ScreenContext& c, int i) { return c.departure_var[static_cast<std::size_t>(i)]; }
 
 // d_i = r_i - median of its neighbours' r; sigma (one hit's) from the MAD of d_i / sqrt(DepartureVariance).
 void NeighbourDeviations(const ScreenContext& c, const Eigen::VectorXd& r, double min_sigma_um, OutlierScreen* s) {
@@ -358,7 +361,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   OutlierScreenOptions sized = options;
   sized.seed_z = SeedZFor(options, observations.size());
   ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, sized,
-                  reference_remaining_um};
+                  reference_remaining_um, {}};
   c.adj = c.nb;  // symmetric neighbour graph
   for (std::size_t i = 0; i < c.nb.size(); ++i)
     for (int j : c.nb[i]) {
@@ -366,6 +369,9 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
       if (std::find(back.begin(), back.end(), static_cast<int>(i)) == back.end()) back.push_back(static_cast<int>(i));
     }
   for (const auto& o : observations) ++c.group_size[o.group];
+  c.departure_var.assign(observations.size(), 0.0);
+  for (std::size_t i = 0; i < observations.size(); ++i)
+    if (!c.nb[i].empty()) c.departure_var[i] = DepartureVarianceOf(c, static_cast<int>(i));
   const Eigen::MatrixXd Q = OrthonormalColumns(X);
   const TrimmedFit fit(Q, y);
   OutlierScreen s;
