@@ -249,11 +249,16 @@ Result<DiagnosisResult> FlagsAsEffect(const WholeInput& whole, const DiagnosisOp
 // `reference_dev_um` (per observation, or null): the point reference's normal deviations,
 // subtracted from the measured ones (DiagnoseAgainstPoints).
 Result<DiagnosisResult> DiagnoseImpl(const testpieces::TestPiece& piece, const kinematics::MachineModel& machine,
-                                     const testpieces::MeasuredObservations& mo, const DiagnosisOptions& options,
+                                     const testpieces::MeasuredObservations& mo, const DiagnosisOptions& given,
                                      const Eigen::VectorXd* reference_dev_um) {
   namespace step = diagnosis_internal;
-  TPCAL_RETURN_IF_ERROR(options.Validate());
-  TPCAL_RETURN_IF_ERROR(options.screen.Validate());
+  TPCAL_RETURN_IF_ERROR(given.Validate());
+  TPCAL_RETURN_IF_ERROR(given.screen.Validate());
+  DiagnosisOptions options = given;  // with the neighbour graph of mo, made once for every screen
+  const int k = options.screen.neighbours;
+  if (!options.neighbour_graph || !options.neighbour_graph->Fits(mo.observations.size(), k))
+    options.neighbour_graph =
+        std::make_shared<const FeatureNeighbourGraph>(FeatureNeighbourGraph{k, FeatureNeighbours(mo.observations, k)});
   const bool point_reference = reference_dev_um != nullptr;
   if (point_reference && options.reference)
     return Status(StatusCode::kInvalidArgument, "diagnosis: a reference point file and reference machine errors together");

@@ -146,6 +146,9 @@ struct DiagnosisOptions {
   // says which slots it needs). Used for the first linearisation when it holds every slot needed
   // and the base is not a reference; otherwise the diagnosis makes its own.
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
+  // The outlier screen's neighbour graph of the same observations when the caller made it (the
+  // identification's screen); else the diagnosis makes it once for all its screens.
+  std::shared_ptr<const FeatureNeighbourGraph> neighbour_graph;
   // Outliers and local defects (outlier_screen.h) are left out before the base fit and listed,
   // unless an effect of the catalogue whose model leaves them nothing to flag explains them (the
   // diagnosis of every point, diagnosis.cc); false keeps every point (they are still found and

@@ -17,9 +17,10 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
   if (effect) {
     Eigen::MatrixXd X(fit.basis.U.rows(), fit.basis.U.cols() + effect->cols());
     X << fit.basis.U, *effect;
-    in.screen = ScreenOutliers(X, fit.y, mo.observations, screen, fit.reference_remaining_um);
+    in.screen = ScreenOutliers(X, fit.y, mo.observations, screen, fit.reference_remaining_um, options.neighbour_graph);
   } else {
-    in.screen = ScreenOutliers(fit.basis.U, fit.y, mo.observations, screen, fit.reference_remaining_um);
+    in.screen =
+        ScreenOutliers(fit.basis.U, fit.y, mo.observations, screen, fit.reference_remaining_um, options.neighbour_graph);
   }
   in.left_out = options.screen_outliers && in.screen.CountFlagged() > 0;
   if (!in.left_out) return in;
@@ -30,6 +31,7 @@ ScreenedInput ScreenBaseFit(const BaseFit& fit, const testpieces::MeasuredObserv
     for (std::size_t k = 0; k < rows.size(); ++k) in.reference_dev_um(static_cast<Eigen::Index>(k)) = (*reference_dev_um)(rows[k]);
   }
   in.options = options;
+  in.options.neighbour_graph = nullptr;  // of every observation, not of those kept
   const auto& given = options.nominal_slot_design;
   in.options.nominal_slot_design = nullptr;
   if (given && given->dslot_um.rows() == static_cast<Eigen::Index>(mo.observations.size()))

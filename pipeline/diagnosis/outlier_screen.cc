@@ -355,13 +355,16 @@ double SeedZFor(const OutlierScreenOptions& options, std::size_t n) {
 
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations, const OutlierScreenOptions& options,
-                             const Eigen::MatrixXd& reference_remaining_um) {
+                             const Eigen::MatrixXd& reference_remaining_um,
+                             std::shared_ptr<const FeatureNeighbourGraph> neighbours) {
   assert(reference_remaining_um.cols() == 0 ||
          reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
   OutlierScreenOptions sized = options;
   sized.seed_z = SeedZFor(options, observations.size());
-  ScreenContext c{observations, FeatureNeighbours(observations, options.neighbours), {}, {}, sized,
-                  reference_remaining_um, {}};
+  if (!neighbours || !neighbours->Fits(observations.size(), options.neighbours))
+    neighbours = std::make_shared<const FeatureNeighbourGraph>(
+        FeatureNeighbourGraph{options.neighbours, FeatureNeighbours(observations, options.neighbours)});
+  ScreenContext c{observations, neighbours->lists, {}, {}, sized, reference_remaining_um, {}};
   c.adj = c.nb;  // symmetric neighbour graph
   for (std::size_t i = 0; i < c.nb.size(); ++i)
     for (int j : c.nb[i]) {
@@ -375,6 +378,7 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   const Eigen::MatrixXd Q = OrthonormalColumns(X);
   const TrimmedFit fit(Q, y);
   OutlierScreen s;
+  s.neighbours = std::move(neighbours);
   std::vector<bool> flagged(observations.size(), false);
   for (s.rounds = 1;; ++s.rounds) {
     s.residual_um = TrimmedResiduals(fit, flagged);

@@ -33,6 +33,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,6 +41,7 @@
 #include "core/point_set.h"
 #include "core/status.h"
 #include "kinematics/identification.h"
+#include "pipeline/diagnosis/feature_neighbours.h"
 #include "testpieces/point_association.h"
 
 namespace tpcal::pipeline {
@@ -89,6 +91,7 @@ struct OutlierScreen {
   double sigma_um = 0.0;            // noise sigma from neighbour differences
   double sigma_dof = 0.0;           // its effective degrees of freedom (MAD: 0.37 n)
   std::vector<DefectPatch> patches;
+  std::shared_ptr<const FeatureNeighbourGraph> neighbours;  // the graph used, to screen these observations again
   int rounds = 0;
   int CountFlagged() const;
   std::vector<int> KeptIndices() const;  // observations with kKept, in order
@@ -100,11 +103,13 @@ struct OutlierScreen {
 // uncertainty (its factor, n rows x r, um: BaseFit::reference_remaining_um, off the base's columns
 // but not off further columns of X, which makes the bounds a little wide; no column: none), a
 // fault's tests weigh the variance it adds to a hit, to its departure from its neighbours and to
-// a patch's sum beside the noise's. Never fails: a design with no residual freedom flags nothing.
+// a patch's sum beside the noise's. `neighbours`: a graph of these observations made before (used
+// when it Fits; else one is made). Never fails: a design with no residual freedom flags nothing.
 OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                              std::span<const kinematics::Observation> observations,
                              const OutlierScreenOptions& options = {},
-                             const Eigen::MatrixXd& reference_remaining_um = Eigen::MatrixXd());
+                             const Eigen::MatrixXd& reference_remaining_um = Eigen::MatrixXd(),
+                             std::shared_ptr<const FeatureNeighbourGraph> neighbours = nullptr);
 
 // The reason a flagged observation is left out, for listings: "outlier: 12.3 um from the model,
 // 11.8 um from its 4 neighbours (noise 0.50 um)" or "local defect: one of 3 points on S2 ...".
