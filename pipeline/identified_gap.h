@@ -2,7 +2,8 @@
 // identified: the same base parameters, and every observation the stage associated with its
 // nominal slot design, the points its outlier screen left out included. The diagnosis screens them
 // again itself, with the verdict's effect in the model (a drift's or a straightness's signature on
-// a few points is not a local defect), as Diagnose does. Shared by `tpcal run`, the gap check of
+// a few points is not a local defect), as Diagnose does. A dense scan's hits flagged inside their
+// cells (left out before the cells were valued) head its list of outliers. Shared by `tpcal run`, the gap check of
 // `tpcal identify` and the diagnosis against an instrument.
 #pragma once
 

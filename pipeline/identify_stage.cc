@@ -1,5 +1,7 @@
 #include "pipeline/identify_stage.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <map>
 #include <utility>
@@ -17,7 +19,23 @@ namespace {
 struct Associated {
   testpieces::MeasuredObservations observations;
   std::optional<ScanCellSummary> scan_cells;
+  std::vector<ScreenedPoint> flagged_hits;  // single hits the scan cells flagged
 };
+
+// The hits a dense scan's cells flagged, as the outlier screen lists its points.
+std::vector<ScreenedPoint> FlaggedHitsListed(const ScanCells& cells, const testpieces::MeasuredObservations& per_point) {
+  std::vector<ScreenedPoint> out;
+  for (const FlaggedHit& h : cells.flagged_hits) {
+    const std::string& feature =
+        per_point.feature_names[static_cast<std::size_t>(per_point.observations[h.observation].group)];
+    out.push_back({h.point_index, 0, feature, "outlier", h.departure_um,
+                   fmt::format("outlier: {:.2f} um from the fit through the other {} hits of its scan cell on {} ({:.1f} "
+                               "sigma; one hit's noise {:.2f} um)",
+                               h.departure_um, h.cell_hits - 1, feature, std::abs(h.z), cells.hit_sigma_um),
+                   cells.hits_left_out});
+  }
+  return out;
+}
 
 // Points to observations in the datum frame `datum_from_cmm`, pooled into scan-line cells when
 // the file is dense.
@@ -26,15 +44,18 @@ Result<Associated> Associate(const testpieces::TestPiece& piece, const PointSet&
   if (announce && options.on_step) options.on_step("associate");
   auto obs = testpieces::AssociatePoints(piece, measured, datum_from_cmm);
   if (!obs.ok()) return obs.status();
-  Associated out{std::move(*obs), std::nullopt};
-  const ScanCellOptions& cells_options = options.scan_cells;
-  if (cells_options.above_points == 0 || out.observations.observations.size() <= cells_options.above_points)
-    return out;
+  Associated out{std::move(*obs), std::nullopt, {}};
+  const std::size_t n = out.observations.observations.size();
+  ScanCellOptions cells_options = options.scan_cells;
+  if (cells_options.above_points == 0 || n <= cells_options.above_points) return out;
+  if (cells_options.hit_outlier_z == 0) cells_options.hit_outlier_z = SeedZFor(options.screen, n);
+  cells_options.leave_out_flagged_hits = options.screen_outliers;
   if (announce && options.on_step) options.on_step("scan cells");
   auto cells = ReduceToScanCells(out.observations, cells_options);
   if (!cells.ok()) return cells.status();
   if (*cells) {
     out.scan_cells = Summarise(**cells);
+    out.flagged_hits = FlaggedHitsListed(**cells, out.observations);
     out.observations = std::move((*cells)->observations);
   }
   return out;
@@ -107,6 +128,7 @@ struct ScreenListing {
   double neighbour_sigma_dof = 0.0;
   std::optional<testpieces::MeasuredObservations> unscreened;
   std::shared_ptr<const kinematics::SlotDesign> unscreened_slots;
+  std::shared_ptr<const FeatureNeighbourGraph> neighbours;
 };
 
 void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measured, testpieces::MeasuredObservations* obs,
@@ -121,6 +143,7 @@ void ScreenFinalPass(const IdentifyStageOptions& options, const PointSet& measur
   const bool left_out = options.screen_outliers && screen.CountFlagged() > 0;
   out->neighbour_sigma_um = screen.sigma_um;
   out->neighbour_sigma_dof = screen.sigma_dof;
+  out->neighbours = screen.neighbours;
   ListFlagged(screen, *obs, left_out, &out->outliers, &out->local_defects);
   AttachScreenLines(measured, &out->outliers, &out->local_defects);
   if (!left_out) return;
@@ -230,7 +253,8 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
       auto design = NominalSlotDesign(piece, machine, base, *active, parameters, obs->observations, &pass_options);
       if (!design.ok()) return design.status().WithLocation(measured.source);
       slot_design = std::move(*design);
-      if (!obs->scan_cells) ScreenFinalPass(options, measured, &obs->observations, &pass_options, &slot_design, &screened);
+      screened.outliers = std::move(obs->flagged_hits);
+      ScreenFinalPass(options, measured, &obs->observations, &pass_options, &slot_design, &screened);
     }
     id = kinematics::Identify(machine, base, *active, obs->observations.observations, pass_options);
     if (!id.ok()) return id.status().WithLocation(measured.source);
@@ -247,7 +271,8 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                              obs->scan_cells,              std::move(slot_design),
                              std::move(screened.outliers), std::move(screened.local_defects),
                              screened.neighbour_sigma_um,  screened.neighbour_sigma_dof,
-                             std::move(screened.unscreened), std::move(screened.unscreened_slots)};
+                             std::move(screened.unscreened), std::move(screened.unscreened_slots),
+                             std::move(screened.neighbours)};
 }
 
 }  // namespace tpcal::pipeline

@@ -41,7 +41,8 @@ struct IdentifyStageOptions {
   // part of it). May be empty.
   std::function<void(const char* step)> on_step;
   // Outliers and local defects (pipeline/diagnosis/outlier_screen.h) are left out of the final
-  // identification and listed; false keeps them (still listed). Scan-line cells are not screened.
+  // identification and listed; false keeps them (still listed). A dense scan's single hits are
+  // screened inside their cells (ScanCellOptions::hit_outlier_z), then its cells by the screen.
   bool screen_outliers = true;
   OutlierScreenOptions screen;
 };
@@ -57,7 +58,9 @@ struct IdentifyStageResult {
   // (DiagnosisOptions::nominal_slot_design with base_parameters = parameters).
   std::shared_ptr<const kinematics::SlotDesign> nominal_slot_design;
   // The outlier screen on the nominal design of the final pass: flagged points (file lines set),
-  // left out of `observations` and the identification unless screen_outliers is off.
+  // left out of `observations` and the identification unless screen_outliers is off; a dense
+  // scan's flagged hits first (left out of their cells), then its flagged cells (by their
+  // representative point).
   std::vector<ScreenedPoint> outliers;
   std::vector<LocalDefect> local_defects;
   double neighbour_sigma_um = 0.0;
@@ -67,6 +70,9 @@ struct IdentifyStageResult {
   // (DiagnoseIdentified).
   std::optional<testpieces::MeasuredObservations> unscreened_observations;
   std::shared_ptr<const kinematics::SlotDesign> unscreened_slot_design;
+  // The screen's neighbour graph of the observations it judged (unscreened_observations when set,
+  // else observations), for the diagnosis's screens (DiagnosisOptions::neighbour_graph).
+  std::shared_ptr<const FeatureNeighbourGraph> neighbour_graph;
 };
 
 // The identification options of `tpcal identify --uncertainty CHOICE`: jackknife (delete one point,

@@ -27,6 +27,8 @@ namespace tpcal::pipeline {
 namespace {
 
 using test_support::AcTable;
+using test_support::AddGrossOutliers;
+using test_support::LargestShiftInU;
 using test_support::RandomTable2;
 using test_support::ToErrorState;
 using test_support::Turning;
@@ -43,30 +45,6 @@ testpieces::SimulatedPiece Simulate(const std::map<std::string, double>& truth, 
 }
 
 void Push(PointSet* points, std::size_t i, double um) { points->xyz_mm[i] += 1e-3 * um * points->normal[i]; }
-
-// 1 % of the points (at least 1) pushed along their normal by 10-50 sigma, random sign.
-std::set<std::size_t> AddGrossOutliers(PointSet* points, double sigma_um, std::mt19937_64& rng) {
-  const std::size_t m = std::max<std::size_t>(1, points->size() / 100);
-  std::uniform_int_distribution<std::size_t> pick(0, points->size() - 1);
-  std::uniform_real_distribution<double> size(10.0, 50.0);
-  std::set<std::size_t> chosen;
-  while (chosen.size() < m) chosen.insert(pick(rng));
-  for (std::size_t i : chosen) {
-    const double sign = rng() % 2 ? 1.0 : -1.0;  // drawn before the size under every compiler
-    Push(points, i, sign * size(rng) * sigma_um);
-  }
-  return chosen;
-}
-
-// Largest |value - reference| / u_reference over the identifiable parameters.
-double LargestShiftInU(const kinematics::IdentificationResult& reference, const kinematics::IdentificationResult& other) {
-  double worst = 0.0;
-  for (std::size_t k = 0; k < reference.parameters.size(); ++k) {
-    const auto& p = reference.parameters[k];
-    if (p.identifiable && p.u > 0) worst = std::max(worst, std::abs(other.parameters[k].value - p.value) / p.u);
-  }
-  return worst;
-}
 
 TEST(OutlierScreen, GrossOutliersMoveTheIdentificationByLessThanHalfU) {
   std::mt19937_64 rng(18);

@@ -105,7 +105,9 @@ ScanCellsSummary ScanCellsSummaryOf(const ScanCellSummary& c) {
           .max_points_per_cell = c.points_per_cell_max,
           .max_cell_mm = c.max_cell_mm,
           .max_cell_deg = c.max_cell_deg,
-          .on_grid = c.on_grid};
+          .on_grid = c.on_grid,
+          .flagged_hits = c.flagged_hits,
+          .hit_sigma_um = c.hit_sigma_um};
 }
 
 }  // namespace

@@ -19,6 +19,10 @@
 // bin of feature, operation, feed direction, cutting-time window, axis commands, nominal point
 // and normal (the caps as bin widths, half the normal turn), split at the points cap, its value
 // that of a line or plane fitted over the directions its members span (noise_scale alike).
+// Before a cell is valued its single hits are screened (hit_outlier_z): a hit departing from the
+// fit through the cell's other members by more than that many of one hit's sigma (robust, from all
+// cells) is flagged and left out of it, worst first, while the fit keeps 2 degrees of freedom; two
+// flagged hits side by side with one sign are a patch and stay, for the screen of cells.
 #pragma once
 
 #include <cstddef>
@@ -48,7 +52,22 @@ struct ScanCellOptions {
   // Consecutive points cut further apart in time, or with another feed direction, or a step back
   // in cutting time after steps forward (another pass), start a new cell.
   double max_time_step_s = 10.0;
+  // Single hits departing from the fit through their cell's other members by more than this many
+  // of one hit's sigma (> 0) are flagged, and left out of their cell unless leave_out_flagged_hits
+  // is off. 0: RunIdentifyStage takes its outlier screen's seed threshold for the file's size
+  // (SeedZFor: 6.1 for 2e6 hits), ReduceToScanCells alone screens none; negative: none.
+  double hit_outlier_z = 0.0;
+  bool leave_out_flagged_hits = true;
   Status Validate() const;
+};
+
+// A hit of a dense scan that departs from its cell (ReduceToScanCells).
+struct FlaggedHit {
+  std::size_t point_index = 0;  // into the measured PointSet
+  std::size_t observation = 0;  // into the per-point observations
+  double departure_um = 0.0;    // from the fit through its cell's other hits, along the nominal normal
+  double z = 0.0;               // in its sigma (one hit's, times the fit's leverage)
+  int cell_hits = 0;            // hits of its cell, itself included
 };
 
 struct ScanCells {
@@ -59,6 +78,10 @@ struct ScanCells {
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
   bool on_grid = false;                     // cells of a fixed grid (the file not in scan order)
+  std::vector<FlaggedHit> flagged_hits;     // in cell order
+  double hit_sigma_um = 0.0;                // one hit's noise about its cell's fit (robust); 0: not screened
+  double hit_outlier_z = 0.0;               // the threshold used
+  bool hits_left_out = true;                // flagged hits left out of their cells
 };
 
 // What a run reports of the reduction.
@@ -70,6 +93,8 @@ struct ScanCellSummary {
   double max_cell_deg = 0.0;
   double mean_points_per_cell = 0.0;
   bool on_grid = false;
+  std::size_t flagged_hits = 0;         // single hits flagged inside their cells
+  double hit_sigma_um = 0.0;            // one hit's noise about its cell's fit (0: not screened)
 };
 ScanCellSummary Summarise(const ScanCells& cells);
 

@@ -83,6 +83,8 @@ std::string RunReportJson(const RunReport& r) {
                                   {"max_cell_mm", c.max_cell_mm},
                                   {"max_cell_deg", c.max_cell_deg},
                                   {"layout", c.on_grid ? "grid" : "scan_line"},
+                                  {"flagged_hits", c.flagged_hits},
+                                  {"hit_sigma_um", c.hit_sigma_um},
                                   {"note", c.on_grid ? "identification and diagnosis ran on one observation per grid "
                                                        "cell (the file is not in scan order)"
                                                      : "identification and diagnosis ran on one observation per "

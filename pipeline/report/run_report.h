@@ -68,6 +68,8 @@ struct ScanCellsSummary {
   double max_cell_mm = 0.0;
   double max_cell_deg = 0.0;
   bool on_grid = false;  // grid cells: the file was not in scan order
+  std::size_t flagged_hits = 0;  // single hits flagged inside their cells (identification.outliers)
+  double hit_sigma_um = 0.0;     // one hit's noise about its cell's fit
 };
 
 struct RunReport {

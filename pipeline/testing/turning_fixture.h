@@ -4,9 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
+
+#include "core/point_set.h"
+#include "kinematics/identification.h"
 
 #include "kinematics/error_parameters.h"
 #include "kinematics/error_state.h"
@@ -57,6 +63,32 @@ inline kinematics::ErrorState ToErrorState(const std::map<std::string, double>& 
     EXPECT_TRUE(errors.SetParameter(machine, name, internal).ok()) << name;
   }
   return errors;
+}
+
+// 1 % of the points (at least 1) pushed along their normal by 10-50 sigma, random sign (issue 18's
+// gross outliers); returns their indices.
+inline std::set<std::size_t> AddGrossOutliers(PointSet* points, double sigma_um, std::mt19937_64& rng) {
+  const std::size_t m = std::max<std::size_t>(1, points->size() / 100);
+  std::uniform_int_distribution<std::size_t> pick(0, points->size() - 1);
+  std::uniform_real_distribution<double> size(10.0, 50.0);
+  std::set<std::size_t> chosen;
+  while (chosen.size() < m) chosen.insert(pick(rng));
+  for (std::size_t i : chosen) {
+    const double sign = rng() % 2 ? 1.0 : -1.0;  // drawn before the size under every compiler
+    points->xyz_mm[i] += 1e-3 * sign * size(rng) * sigma_um * points->normal[i];
+  }
+  return chosen;
+}
+
+// Largest |value - reference| / u_reference over the identifiable parameters.
+inline double LargestShiftInU(const kinematics::IdentificationResult& reference,
+                              const kinematics::IdentificationResult& other) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < reference.parameters.size(); ++k) {
+    const auto& p = reference.parameters[k];
+    if (p.identifiable && p.u > 0) worst = std::max(worst, std::abs(other.parameters[k].value - p.value) / p.u);
+  }
+  return worst;
 }
 
 }  // namespace tpcal::pipeline::test_support
