@@ -66,6 +66,18 @@ Eigen::MatrixXd NuisanceBasis(const Eigen::MatrixXd& N) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(N.rows(), N.cols());
 }
 
+// Row weights of weighted least squares, 1 / Observation::noise_scale; empty when every scale is
+// 1 (probe hits: ordinary least squares, with the same arithmetic).
+Eigen::VectorXd RowWeights(std::span<const Observation> observations) {
+  const bool weighted = std::any_of(observations.begin(), observations.end(), [](const Observation& o) {
+    return o.noise_scale != 1.0;
+  });
+  if (!weighted) return {};
+  Eigen::VectorXd w(static_cast<Eigen::Index>(observations.size()));
+  for (std::size_t i = 0; i < observations.size(); ++i) w(static_cast<Eigen::Index>(i)) = 1.0 / observations[i].noise_scale;
+  return w;
+}
+
 // The last evaluation with Jacobians: its parameters, residuals and Jacobian blocks (Ceres
 // layout, row-major), so that the linearisation at the solution can reuse it when Ceres stopped
 // at that very point.
@@ -84,9 +96,9 @@ class PointResiduals final : public ceres::CostFunction {
   PointResiduals(const MachineModel& model, const ErrorState& base, const ActiveSet& active,
                  std::span<const Observation> obs, const Eigen::MatrixXd& V_r,
                  const std::vector<double>& scales, bool with_alignment, const LinearDesign* lin0,
-                 JacobianCapture* capture)
+                 const Eigen::VectorXd& weights, JacobianCapture* capture)
       : model_(model), base_(base), active_(active), obs_(obs), V_r_(V_r), scales_(scales),
-        with_alignment_(with_alignment), lin0_(lin0), capture_(capture), work_(base) {
+        with_alignment_(with_alignment), lin0_(lin0), weights_(weights), capture_(capture), work_(base) {
     set_num_residuals(static_cast<int>(obs.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(V_r.cols()));
     if (with_alignment) mutable_parameter_block_sizes()->push_back(kNuisance);
@@ -108,6 +120,7 @@ class PointResiduals final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const bool ok = IsBase(parameters) && lin0_ ? FromLin0(residuals, jacobians)
                                                 : EvaluatePoints(parameters, residuals, jacobians);
+    if (ok && weights_.size() > 0) Weigh(residuals, jacobians);
     if (ok && jacobians && capture_) Capture(parameters, residuals, jacobians);
     return ok;
   }
@@ -135,6 +148,19 @@ class PointResiduals final : public ceres::CostFunction {
       J = lin0_->J_dev_alignment;
     }
     return true;
+  }
+
+  // Rows times their weights (weighted least squares).
+  void Weigh(double* residuals, double** jacobians) const {
+    const std::size_t r = static_cast<std::size_t>(V_r_.cols());
+    for (std::size_t i = 0; i < obs_.size(); ++i) {
+      const double w = weights_(static_cast<Eigen::Index>(i));
+      residuals[i] *= w;
+      if (jacobians && jacobians[0])
+        for (std::size_t j = 0; j < r; ++j) jacobians[0][i * r + j] *= w;
+      if (with_alignment_ && jacobians && jacobians[1])
+        for (int k = 0; k < kNuisance; ++k) jacobians[1][i * kNuisance + static_cast<std::size_t>(k)] *= w;
+    }
   }
 
   void Capture(double const* const* parameters, const double* residuals, double** jacobians) const {
@@ -210,6 +236,7 @@ class PointResiduals final : public ceres::CostFunction {
   const std::vector<double>& scales_;
   bool with_alignment_;
   const LinearDesign* lin0_;
+  const Eigen::VectorXd& weights_;  // empty: none
   JacobianCapture* capture_;
   mutable ErrorState work_;
   mutable int jacobian_passes_ = 0;
@@ -374,17 +401,22 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     if (!lin0_made.ok()) return lin0_made.status();
     lin0 = &*lin0_made;
   }
-  Eigen::MatrixXd A = lin0->J_dev_params;
+  // Weighted least squares when the observations' noise differs (pooled scan cells): every row of
+  // the design and of the residuals times 1 / noise_scale, so sigma is one hit's.
+  const Eigen::VectorXd w = RowWeights(observations);
+  Eigen::MatrixXd A = w.size() > 0 ? Eigen::MatrixXd(w.asDiagonal() * lin0->J_dev_params) : lin0->J_dev_params;
+  // Rank relative to the columns before the alignment took its share: a coefficient the
+  // re-alignment absorbs whole leaves only rounding, which must not count even when it is all
+  // that is left (relative to the projected columns alone it would).
+  const double column_scale = A.colwise().norm().maxCoeff();
   if (options.fit_alignment) {
-    const Eigen::MatrixXd Q = NuisanceBasis(lin0->J_dev_alignment);
+    const Eigen::MatrixXd Q = NuisanceBasis(w.size() > 0 ? Eigen::MatrixXd(w.asDiagonal() * lin0->J_dev_alignment)
+                                                         : lin0->J_dev_alignment);
     A -= Q * (Q.transpose() * A);
   }
   const TallSvdResult svd = TallSvd(A, /*compute_u=*/false);
   const double smax = svd.sigma.size() ? svd.sigma(0) : 0.0;
-  // Rank relative to the columns before the alignment took its share: a coefficient the
-  // re-alignment absorbs whole leaves only rounding, which must not count even when it is all
-  // that is left (relative to the projected columns alone it would).
-  const double scale = std::max(smax, lin0->J_dev_params.colwise().norm().maxCoeff());
+  const double scale = std::max(smax, column_scale);
   int rank = 0;
   for (Eigen::Index k = 0; k < svd.sigma.size(); ++k)
     if (svd.sigma(k) > options.rank_tolerance * scale) ++rank;
@@ -427,7 +459,7 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem problem(popt);
     auto* cost = new PointResiduals(model, base, active, observations, V_r, scales, options.fit_alignment,
-                                    lin0, &capture);
+                                    lin0, w, &capture);
     if (options.fit_alignment) {
       problem.AddResidualBlock(cost, nullptr, z.data(), xi.data());
     } else {
@@ -494,9 +526,15 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
     e = lin->measured_dev_um - lin->predicted_dev_um;
     Ar.leftCols(rank) = lin->J_dev_params * V_r;
     if (options.fit_alignment) Ar.rightCols(kNuisance) = lin->J_dev_alignment;
+    if (w.size() > 0) {
+      e.array() *= w.array();
+      Ar = w.asDiagonal() * Ar;
+    }
   }
-  out.residuals_um.assign(e.data(), e.data() + e.size());
-  out.rms_after_um = std::sqrt(e.squaredNorm() / static_cast<double>(n));
+  // e and Ar are weighted from here on; the residuals reported are not.
+  const Eigen::VectorXd e_raw = w.size() > 0 ? Eigen::VectorXd(e.array() / w.array()) : e;
+  out.residuals_um.assign(e_raw.data(), e_raw.data() + e_raw.size());
+  out.rms_after_um = std::sqrt(e_raw.squaredNorm() / static_cast<double>(n));
   const double dof = static_cast<double>(n - m);
   const double sigma2 = e.squaredNorm() / dof;
   out.sigma_um = std::sqrt(sigma2);

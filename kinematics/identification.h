@@ -68,7 +68,8 @@ struct Observation {
   Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();  // measured point, nominal part frame
   int group = 0;                                          // feature index (delete-one-group jackknife)
   // Noise sigma of this observation's deviation relative to one probe hit's: 1 for a hit, below 1
-  // for a pooled scan cell (pipeline/scan_cells.h). The diagnosis's noise tests weigh it; fits do not.
+  // for a pooled scan cell (pipeline/scan_cells.h). Identify weighs it (weighted least squares),
+  // as do the diagnosis's noise tests; the diagnosis's fits do not.
   double noise_scale = 1.0;
 };
 
@@ -159,18 +160,19 @@ struct IdentificationResult {
   int num_groups = 0;
   double rms_before_um = 0.0;        // residual RMS at theta = base, no re-alignment
   double rms_after_um = 0.0;         // at the solution
-  double sigma_um = 0.0;             // sqrt(SSR / (n - q))
+  double sigma_um = 0.0;             // sqrt(SSR / (n - q)), residuals over noise_scale: one hit's
   int iterations = 0;
   std::string termination;           // Ceres termination summary
   // Passes over all observations that evaluated the Jacobian (the costly part): the
   // linearisation at the base errors, the Ceres evaluations it did not serve, and the
   // linearisation at the solution unless Ceres's own last evaluation was at that very point.
   int jacobian_passes = 0;
-  std::vector<double> residuals_um;  // per observation, at the solution
+  std::vector<double> residuals_um;  // per observation, at the solution (not weighted)
 };
 
-// Identifies the coefficients `active` of `base` (all other coefficients stay as in `base`).
-// Errors: kTooFewPoints (n <= q), kInvalidArgument (options, empty active set), kNotIdentifiable
+// Identifies the coefficients `active` of `base` (all other coefficients stay as in `base`), by
+// least squares weighted by 1 / Observation::noise_scale (ordinary when every scale is 1); every
+// uncertainty is of that weighted problem. Errors: kTooFewPoints (n <= q), kInvalidArgument (options, empty active set), kNotIdentifiable
 // (no coefficient identifiable), simulation failures naming the observation.
 Result<IdentificationResult> Identify(const MachineModel& model, const ErrorState& base,
                                       const ActiveSet& active, std::span<const Observation> observations,

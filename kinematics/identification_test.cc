@@ -244,6 +244,56 @@ TEST(Identification, NoisySquarenessWithinFourU) {
   }
 }
 
+// Weighted least squares (Observation::noise_scale). Truth: an observation of scale 1 / sqrt(2)
+// weighs in the normal equations exactly as the same observation twice at scale 1, so the box
+// (0.25 um noise, misplaced as in the round trip) with its side faces at scale 1 / sqrt(2) gives
+// the estimates of the box with the side faces listed twice (to the solver's 1e-6 urad: tolerance
+// 1e-4 urad), the same weighted SSR, hence analytic u in the ratio sqrt((n2 - m) / (n1 - m)) of
+// the degrees of freedom (1e-6 relative), and unweighted residuals (1e-9 um). Every scale 1 / 2
+// instead: the ordinary estimates and u (scaling every row changes neither), sigma twice theirs
+// (one hit's, from observations of half its noise).
+TEST(Identification, WeightedRowsWeighAsRepeatedObservations) {
+  const MachineModel m = IdentifyTestMachine();
+  const std::vector<std::string> names = IsoLocationSet(m);
+  ErrorState base(m), truth(m);
+  ActiveSet active;
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestErrors(m, names, kIdentifyTestSquareness_urad, &base, &truth, &active));
+  std::vector<Observation> obs = IdentifyTestBoxCuts(m, kIdentifyTestHeights_mm);
+  std::mt19937_64 rng(20261203);
+  const Rigid3 placement =
+      RigidFromTwist(Eigen::Vector3d(30e-6, -20e-6, 40e-6), Eigen::Vector3d(0.012, -0.008, 0.005));
+  ASSERT_NO_FATAL_FAILURE(IdentifyTestMeasure(m, truth, 0.25, &rng, placement, &obs));
+  std::vector<Observation> weighted = obs, repeated = obs;
+  for (std::size_t i = 0; i < obs.size(); ++i)
+    if (obs[i].group < 4) {
+      weighted[i].noise_scale = 1.0 / std::sqrt(2.0);
+      repeated.push_back(obs[i]);
+    }
+  const auto a = Identify(m, base, active, weighted);
+  const auto b = Identify(m, base, active, repeated);
+  const auto ols = Identify(m, base, active, obs);
+  std::vector<Observation> halves = obs;
+  for (auto& o : halves) o.noise_scale = 0.5;
+  const auto half = Identify(m, base, active, halves);
+  ASSERT_TRUE(a.ok() && b.ok() && ols.ok() && half.ok());
+  const double m_fit = 3 + 6;  // coefficients and the re-alignment
+  const double dof_ratio = std::sqrt((static_cast<double>(repeated.size()) - m_fit) / (static_cast<double>(obs.size()) - m_fit));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto* ua = IdentifyTestFindUncertainty(a->parameters[k], UncertaintyMethod::kAnalytic);
+    const auto* ub = IdentifyTestFindUncertainty(b->parameters[k], UncertaintyMethod::kAnalytic);
+    const auto* uo = IdentifyTestFindUncertainty(ols->parameters[k], UncertaintyMethod::kAnalytic);
+    const auto* uh = IdentifyTestFindUncertainty(half->parameters[k], UncertaintyMethod::kAnalytic);
+    ASSERT_TRUE(ua && ub && uo && uh);
+    EXPECT_NEAR(a->parameters[k].value, b->parameters[k].value, 1e-4) << names[k];
+    EXPECT_NEAR(ua->u / ub->u, dof_ratio, 1e-6) << names[k];
+    EXPECT_NEAR(half->parameters[k].value, ols->parameters[k].value, 1e-4) << names[k];
+    EXPECT_NEAR(uh->u / uo->u, 1.0, 1e-6) << names[k];
+  }
+  for (std::size_t i = 0; i < obs.size(); ++i) EXPECT_NEAR(a->residuals_um[i], b->residuals_um[i], 1e-9) << i;
+  EXPECT_NEAR(half->sigma_um, 2.0 * ols->sigma_um, 1e-9);
+  EXPECT_NEAR(half->rms_after_um, ols->rms_after_um, 1e-9);
+}
+
 // Identifiability is reported, never hidden. All side-face points at one height z0 = -40 mm and
 // no re-alignment fitted (with it, the translation would absorb any X offset by itself): an X
 // offset of the X axis (E_XX.c0, um) and the squareness E_B(0X)Z (urad, an X shift of z0 x 1e-3 um

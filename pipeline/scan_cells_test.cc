@@ -11,8 +11,8 @@
 //   the deviations themselves, whose first harmonic over the 10 deg normal-turn cap it attenuates
 //   by (10 deg)^2 / 24 = 0.13 %, gave 19.9 nm.
 //   Noise 1 um: cell estimates within 3 u of the truth, and the cells' u within 0.9 to 1.5 times
-//   the per-point u (pooling loses little information; cells of unequal size are not weighted).
-//   The diagnosis of those cells weighs their unequal noise (Observation::noise_scale).
+//   the per-point u (pooling loses little information). The identification (weighted least
+//   squares) and the diagnosis of those cells weigh their unequal noise (Observation::noise_scale).
 // - A file not in scan order (a patch, the same dense scan shuffled) is pooled on the grid: a
 //   planar trend is exact at each cell's representative; the identification as above, its u
 //   within 1.6 times the per-point u (the grid's cells are of unequal size).
@@ -403,9 +403,10 @@ TEST(ScanCells, ShuffledDenseScanOnTheGridIdentifiesLikeEveryPointNoiseFree) {
 }
 
 // With 1 um noise: within 3 u of the truth; the grid's cells are of unequal size (a bin holds what
-// the grid cuts out of the scan lines) and the identification does not weigh them, so they keep
-// less of the information than scan lines: at most 1.6 times the per-point u (measured 1.06 to
-// 1.46; 1.3 to 1.5 on the 2e6-point pipeline_bench scan).
+// the grid cuts out of the scan lines, its plane's slopes take some of its hits' information), so
+// they keep less of it than scan lines even weighed: at most 1.35 times the per-point u (measured
+// 1.11 to 1.26, 1.02 to 1.10 on the 2e6-point pipeline_bench scan; unweighted 1.06 to 1.46 and
+// 1.05 to 1.51).
 TEST(ScanCells, ShuffledDenseScanOnTheGridWithNoise) {
   std::mt19937_64 rng(7);
   const auto truth = RandomTable2(rng);
@@ -422,7 +423,7 @@ TEST(ScanCells, ShuffledDenseScanOnTheGridWithNoise) {
     ratio_lo = std::min(ratio_lo, c.u / p.u), ratio_hi = std::max(ratio_hi, c.u / p.u);
     EXPECT_NEAR(c.value, truth.at(names[k]), 3.0 * c.u) << c.name;
     EXPECT_GT(c.u, 0.9 * p.u) << c.name;
-    EXPECT_LT(c.u, 1.6 * p.u) << c.name;
+    EXPECT_LT(c.u, 1.35 * p.u) << c.name;
   }
   std::printf("grid, 1 um noise: u %.2f to %.2f times the per-point u\n", ratio_lo, ratio_hi);
 }
