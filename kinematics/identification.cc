@@ -385,6 +385,10 @@ Result<IdentificationResult> Identify(const MachineModel& model, const ErrorStat
                                                  (options.fit_alignment ? " and the 6 alignment terms" : "") +
                                                  " needs more than " + std::to_string(nq) + " points, got " +
                                                  std::to_string(n));
+  for (std::size_t i = 0; i < observations.size(); ++i)
+    if (!(observations[i].noise_scale > 0.0) || !std::isfinite(observations[i].noise_scale))
+      return Status(StatusCode::kInvalidArgument,
+                    "identification: observation " + std::to_string(i) + " has a noise_scale that is not positive and finite");
   const std::vector<double> scales = DisplayScales(base, active);
 
   // 1. Identifiability at the base errors.

@@ -172,8 +172,9 @@ struct IdentificationResult {
 
 // Identifies the coefficients `active` of `base` (all other coefficients stay as in `base`), by
 // least squares weighted by 1 / Observation::noise_scale (ordinary when every scale is 1); every
-// uncertainty is of that weighted problem. Errors: kTooFewPoints (n <= q), kInvalidArgument (options, empty active set), kNotIdentifiable
-// (no coefficient identifiable), simulation failures naming the observation.
+// uncertainty is of that weighted problem. Errors: kTooFewPoints (n <= q), kInvalidArgument
+// (options, empty active set, a noise_scale not positive and finite), kNotIdentifiable (no
+// coefficient identifiable), simulation failures naming the observation.
 Result<IdentificationResult> Identify(const MachineModel& model, const ErrorState& base,
                                       const ActiveSet& active, std::span<const Observation> observations,
                                       const IdentifyOptions& options = {});

@@ -484,6 +484,15 @@ TEST(Identification, BadInputsAreStatuses) {
   ASSERT_FALSE(bad_options.ok());
   EXPECT_EQ(bad_options.status().code(), StatusCode::kInvalidArgument) << bad_options.status().ToString();
 
+  for (const double scale : {0.0, -1.0, std::nan("")}) {
+    std::vector<Observation> weighed = obs;
+    weighed[7].noise_scale = scale;
+    const Result<IdentificationResult> bad_scale = Identify(m, base, active, weighed);
+    ASSERT_FALSE(bad_scale.ok()) << scale;
+    EXPECT_EQ(bad_scale.status().code(), StatusCode::kInvalidArgument) << bad_scale.status().ToString();
+    EXPECT_NE(bad_scale.status().message().find("observation 7"), std::string::npos) << bad_scale.status().ToString();
+  }
+
   std::vector<Observation> bent = obs;
   bent[5].cut.nominal_normal *= 1.01;  // not a unit vector: SimulateSurfacePoint refuses it
   const Result<IdentificationResult> bad_cut = Identify(m, base, active, bent);
