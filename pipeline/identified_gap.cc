@@ -14,11 +14,8 @@ Result<DiagnosisResult> DiagnoseIdentified(const testpieces::TestPiece& piece, c
   auto d = DiagnoseObservations(piece, machine, left_out ? *stage.unscreened_observations : stage.observations, options);
   if (!d.ok()) return d.status();
   AttachSourceLines(measured, &*d);
-  // A dense scan's hits flagged inside their cells (the stage's first outliers) head the list.
-  if (stage.scan_cells && stage.scan_cells->flagged_hits > 0) {
-    const auto hits = stage.outliers.begin() + static_cast<std::ptrdiff_t>(stage.scan_cells->flagged_hits);
-    d->outliers.insert(d->outliers.begin(), stage.outliers.begin(), hits);
-  }
+  // A dense scan's hits flagged inside their cells head the list.
+  d->outliers.insert(d->outliers.begin(), stage.flagged_hits.begin(), stage.flagged_hits.end());
   return std::move(*d);
 }
 

@@ -30,8 +30,9 @@ std::vector<ScreenedPoint> FlaggedHitsListed(const ScanCells& cells, const testp
         per_point.feature_names[static_cast<std::size_t>(per_point.observations[h.observation].group)];
     out.push_back({h.point_index, 0, feature, "outlier", h.departure_um,
                    fmt::format("outlier: {:.2f} um from the fit through the other {} hits of its scan cell on {} ({:.1f} "
-                               "sigma; one hit's noise {:.2f} um)",
-                               h.departure_um, h.cell_hits - 1, feature, std::abs(h.z), cells.hit_sigma_um),
+                               "sigma, beyond {:.1f}; one hit's noise {:.2f} um)",
+                               h.departure_um, h.cell_hits - 1, feature, std::abs(h.z), cells.hit_outlier_z,
+                               cells.hit_sigma_um),
                    cells.hits_left_out});
   }
   return out;
@@ -253,7 +254,9 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
       auto design = NominalSlotDesign(piece, machine, base, *active, parameters, obs->observations, &pass_options);
       if (!design.ok()) return design.status().WithLocation(measured.source);
       slot_design = std::move(*design);
-      screened.outliers = std::move(obs->flagged_hits);
+      std::vector<LocalDefect> no_patches;
+      AttachScreenLines(measured, &obs->flagged_hits, &no_patches);
+      screened.outliers = obs->flagged_hits;
       ScreenFinalPass(options, measured, &obs->observations, &pass_options, &slot_design, &screened);
     }
     id = kinematics::Identify(machine, base, *active, obs->observations.observations, pass_options);
@@ -272,7 +275,7 @@ Result<IdentifyStageResult> RunIdentifyStage(const testpieces::TestPiece& piece,
                              std::move(screened.outliers), std::move(screened.local_defects),
                              screened.neighbour_sigma_um,  screened.neighbour_sigma_dof,
                              std::move(screened.unscreened), std::move(screened.unscreened_slots),
-                             std::move(screened.neighbours)};
+                             std::move(screened.neighbours),  std::move(obs->flagged_hits)};
 }
 
 }  // namespace tpcal::pipeline

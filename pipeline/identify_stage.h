@@ -73,6 +73,8 @@ struct IdentifyStageResult {
   // The screen's neighbour graph of the observations it judged (unscreened_observations when set,
   // else observations), for the diagnosis's screens (DiagnosisOptions::neighbour_graph).
   std::shared_ptr<const FeatureNeighbourGraph> neighbour_graph;
+  // A dense scan's single hits flagged inside their cells (also the first of `outliers`).
+  std::vector<ScreenedPoint> flagged_hits;
 };
 
 // The identification options of `tpcal identify --uncertainty CHOICE`: jackknife (delete one point,

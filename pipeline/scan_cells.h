@@ -55,7 +55,7 @@ struct ScanCellOptions {
   // Single hits departing from the fit through their cell's other members by more than this many
   // of one hit's sigma (> 0) are flagged, and left out of their cell unless leave_out_flagged_hits
   // is off. 0: RunIdentifyStage takes its outlier screen's seed threshold for the file's size
-  // (SeedZFor: 6.1 for 2e6 hits), ReduceToScanCells alone screens none; negative: none.
+  // (SeedZFor: 5.8 for 2e6 hits), ReduceToScanCells alone screens none; negative: none.
   double hit_outlier_z = 0.0;
   bool leave_out_flagged_hits = true;
   Status Validate() const;

@@ -521,6 +521,13 @@ TEST(ScanCells, GrossOutliersInADenseScanAreScreenedHitByHit) {
   EXPECT_LE(shift, 0.5);
   EXPECT_GT(shift_kept, 2.0 * shift);  // what the screens protect against
   EXPECT_EQ(d->verdict.family, "none") << d->verdict.name;
+  // The hits head the diagnosis's list of outliers as the identification's.
+  ASSERT_EQ(screened->flagged_hits.size(), screened->scan_cells->flagged_hits);
+  ASSERT_GE(d->outliers.size(), screened->flagged_hits.size());
+  for (std::size_t i = 0; i < screened->flagged_hits.size(); ++i) {
+    EXPECT_EQ(d->outliers[i].point_index, screened->flagged_hits[i].point_index);
+    EXPECT_EQ(screened->outliers[i].point_index, screened->flagged_hits[i].point_index);
+  }
 }
 
 }  // namespace
