@@ -124,8 +124,8 @@ Command RegisterDiagnose(CLI::App& app) {
       "maps are identified and the gap is diagnosed against them, the directions their own uncertainty moves the\n"
       "piece along fitted (probe_artifacts: compared parameter by parameter through the maps' parameter equivalent\n"
       "and the squareness it fits; ballbar: no parameter, the table says why).\n"
-      "A dense file (more than 250 000 points; no point --reference) is re-aligned and pooled into scan-line cells\n"
-      "as tpcal run does; the noise tests weigh each cell's noise.\n"
+      "A file of more than 3000 points (no point --reference) is identified, re-aligned and re-associated as tpcal\n"
+      "run does (more than 250 000: also pooled into scan-line cells, whose noise the tests weigh).\n"
       "--validate runs the check on simulated pieces with withheld effects and prints the confusion matrix.");
   CLI::Option* testpiece = AddDiagnoseOptions(sub, args.get());
   AddValidateOptions(sub, &args->validate);
