@@ -45,6 +45,25 @@ TEST(DiagnoseStage, PointReferenceFindsTheWithheldDrift) {
   EXPECT_EQ(lines[0].rfind("tpcal diagnose: ", 0), 0u) << lines[0];
 }
 
+// A scan of the turning piece with random Table 2 errors (RandomTable2 drawn from `truth_seed`),
+// 1 um noise (`noise_seed`), random placement: `per_circle` hits per circle and half as many per
+// hole, at 4 levels each.
+Result<testpieces::SimulatedPiece> ScanOfTurning(const LoadedPiece& setup, int truth_seed, int noise_seed, int per_circle) {
+  std::mt19937_64 rng(static_cast<std::uint64_t>(truth_seed));
+  testpieces::PieceSimOptions sim;
+  sim.noise_um = 1.0;
+  sim.seed = static_cast<std::uint64_t>(noise_seed);
+  sim.random_placement = true;
+  testpieces::ProbingOptions density;
+  density.points_per_circle = per_circle;
+  density.levels_per_face = 4;
+  density.points_per_hole = per_circle / 2;
+  density.levels_per_hole = 4;
+  sim.density = density;
+  return testpieces::SimulatePiece(setup.piece, setup.machine,
+                                   test_support::ToErrorState(test_support::RandomTable2(rng)), sim);
+}
+
 // A dense scan of the turning piece (2880 hits per circle x 4 levels, 1440 per hole x 4: 253 440
 // hits, above the 250 000 of ScanCellOptions), random Table 2 errors of 10-50 um / urad (seed 7),
 // 1 um noise, random placement. Truth: nothing beyond noise. The stage re-aligns and pools it as
@@ -54,19 +73,7 @@ TEST(DiagnoseStage, PointReferenceFindsTheWithheldDrift) {
 TEST(DiagnoseStage, DenseScanIsReAlignedAndPooled) {
   auto setup = LoadDiagnosisPiece({});
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
-  std::mt19937_64 rng(7);
-  testpieces::PieceSimOptions sim;
-  sim.noise_um = 1.0;
-  sim.seed = 9;
-  sim.random_placement = true;
-  testpieces::ProbingOptions dense;
-  dense.points_per_circle = 2880;
-  dense.levels_per_face = 4;
-  dense.points_per_hole = 1440;
-  dense.levels_per_hole = 4;
-  sim.density = dense;
-  auto points = testpieces::SimulatePiece(setup->piece, setup->machine,
-                                          test_support::ToErrorState(test_support::RandomTable2(rng)), sim);
+  auto points = ScanOfTurning(*setup, 7, 9, 2880);
   ASSERT_TRUE(points.ok()) << points.status().ToString();
   ASSERT_GT(points->points.size(), 250000u);
   const std::string path = (std::filesystem::path(testing::TempDir()) / "tpcal_dense_diagnose.csv").string();
@@ -98,19 +105,7 @@ TEST(DiagnoseStage, AFileAboveThreeThousandPointsIsReAligned) {
   ASSERT_TRUE(setup.ok()) << setup.status().ToString();
   int false_in_gdt_frame = 0;
   for (int seed : {1, 5, 6}) {
-    std::mt19937_64 rng(100 + seed);
-    testpieces::PieceSimOptions sim;
-    sim.noise_um = 1.0;
-    sim.seed = 200 + static_cast<std::uint64_t>(seed);
-    sim.random_placement = true;
-    testpieces::ProbingOptions density;
-    density.points_per_circle = 90;
-    density.levels_per_face = 4;
-    density.points_per_hole = 45;
-    density.levels_per_hole = 4;
-    sim.density = density;
-    auto points = testpieces::SimulatePiece(setup->piece, setup->machine,
-                                            test_support::ToErrorState(test_support::RandomTable2(rng)), sim);
+    auto points = ScanOfTurning(*setup, 100 + seed, 200 + seed, 90);
     ASSERT_TRUE(points.ok()) << points.status().ToString();
     ASSERT_EQ(points->points.size(), 7920u);
     const std::string path = (std::filesystem::path(testing::TempDir()) / "tpcal_7920_diagnose.csv").string();
