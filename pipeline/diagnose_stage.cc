@@ -143,6 +143,9 @@ Result<DiagnoseStageResult> RunDiagnoseStage(const LoadedPiece& setup, const Dia
   if (!cells.empty()) {
     out.inputs["scan_cells"] = cells;
     if (r.info) r.info("dense scan: " + cells + " (re-aligned and pooled as tpcal run does)");
+  } else if (re_aligned && r.info) {
+    r.info(fmt::format("more than {} points: identified, re-aligned and re-associated as tpcal run does",
+                       kReAlignedAbovePoints));
   }
   return out;
 }

@@ -13,8 +13,8 @@
 // trends along the line exact. What it changes: the noise of a cell is the CMM noise times its
 // Observation::noise_scale, the line's prediction error at the representative, sqrt(1 / k +
 // t^2 / S_tt) for k points (about 1 / sqrt(k)): cells of unequal size have unequal noise, which
-// the identification (weighted least squares) and the diagnosis's noise tests weigh. Every count, RMS and maximum downstream is per cell. Cells
-// follow scan order (a file in the order the CMM took the points). A file that is not
+// the identification (weighted least squares) and the diagnosis's noise tests weigh. Every count,
+// RMS and maximum downstream is per cell. Cells follow scan order (a file in the order the CMM took the points). A file that is not
 // (consecutive points pool fewer than 3 a cell) is pooled on a fixed grid instead: one cell per
 // bin of feature, operation, feed direction, cutting-time window, axis commands, nominal point
 // and normal (the caps as bin widths, half the normal turn), split at the points cap, its value

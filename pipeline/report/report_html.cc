@@ -287,14 +287,16 @@ std::string RenderReportHtml(const RunReport& r) {
   if (r.scan_cells)
     h += fmt::format(
         "<p class=\"meta\">Dense scan: the {} points were pooled into {} {} (mean {:.1f} points; at "
-        "most {} points, {:g} mm and {:g} deg of any axis each; {} single hits beyond noise, {:.2f} um per "
-        "hit, found inside their cells). GD&amp;T used every point; identification and "
+        "most {} points, {:g} mm and {:g} deg of any axis each{}). GD&amp;T used every point; identification and "
         "diagnosis used one observation per cell, so their point counts, residuals and gaps are per cell.</p>\n",
         r.scan_cells->num_points, r.scan_cells->num_cells,
         r.scan_cells->on_grid ? "cells of a fixed grid (the file is not in scan order)" : "scan-line cells",
         r.scan_cells->mean_points_per_cell,
         r.scan_cells->max_points_per_cell, r.scan_cells->max_cell_mm, r.scan_cells->max_cell_deg,
-        r.scan_cells->flagged_hits, r.scan_cells->hit_sigma_um);
+        r.scan_cells->hit_sigma_um > 0
+            ? fmt::format("; {} single hits found beyond noise inside their cells, one hit's noise {:.2f} um",
+                          r.scan_cells->flagged_hits, r.scan_cells->hit_sigma_um)
+            : std::string());
   if (!r.settings.truth.empty())
     h += fmt::format("<p class=\"meta\">Simulated sample: stated truth from {} (red marks, truth columns).</p>\n",
                      E(r.settings.truth));
