@@ -129,7 +129,22 @@ struct ScreenContext {
   const OutlierScreenOptions& o;
   const Eigen::MatrixXd& R;
   std::vector<double> departure_var;  // per observation: DepartureVarianceOf, computed once
+  std::vector<double> patch_seed_z;   // by patch size m: PatchSeedZ
 };
+
+// The seed threshold of an m-point patch among n observations: seed_z up to seed_reference_points
+// (N), above it SeedZFor of N + m (n - N) candidates (each point starts about m times as many
+// connected m-point sets as single points).
+std::vector<double> PatchSeedZ(const OutlierScreenOptions& options, std::size_t n) {
+  std::vector<double> z(static_cast<std::size_t>(2 * options.max_patch_points + 1), options.seed_z);
+  const std::size_t reference = options.seed_reference_points;
+  if (reference == 0 || n <= reference) return z;
+  for (std::size_t m = 1; m < z.size(); ++m) z[m] = SeedZFor(options, reference + m * (n - reference));
+  return z;
+}
+
+// The threshold of a component of m points (m beyond the table: its last entry).
+double SeedZOf(const ScreenContext& c, std::size_t m) { return c.patch_seed_z[std::min(m, c.patch_seed_z.size() - 1)]; }
 
 // Observation i's noise sigma relative to one probe hit's (Observation::noise_scale).
 double Scale(const ScreenContext& c, int i) { return c.obs[static_cast<std::size_t>(i)].noise_scale; }
@@ -209,7 +224,7 @@ bool IsFault(const ScreenContext& c, const OutlierScreen& s, const std::vector<i
            std::abs(s.neighbour_dev_um(i)) >
                c.o.seed_z * s.sigma_um * std::sqrt(DepartureVariance(c, i) + ReferenceDepartureVariance(c, i) / s2);
   }
-  return static_cast<double>(comp.size()) <= MaxPatchSize(c, comp) && FaultZ(c, s, comp) > c.o.seed_z;
+  return static_cast<double>(comp.size()) <= MaxPatchSize(c, comp) && FaultZ(c, s, comp) > SeedZOf(c, comp.size());
 }
 
 // The members of `comp` connected to its peak through members of at least join_ratio of the
@@ -361,10 +376,13 @@ OutlierScreen ScreenOutliers(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
          reference_remaining_um.rows() == static_cast<Eigen::Index>(observations.size()));
   OutlierScreenOptions sized = options;
   sized.seed_z = SeedZFor(options, observations.size());
+  const double rise = sized.seed_z / options.seed_z;  // exactly 1 up to seed_reference_points
+  sized.grow_z *= rise;
+  sized.join_floor_z *= rise;
   if (!neighbours || !neighbours->Fits(observations.size(), options.neighbours))
     neighbours = std::make_shared<const FeatureNeighbourGraph>(
         FeatureNeighbourGraph{options.neighbours, FeatureNeighbours(observations, options.neighbours)});
-  ScreenContext c{observations, neighbours->lists, {}, {}, sized, reference_remaining_um, {}};
+  ScreenContext c{observations, neighbours->lists, {}, {}, sized, reference_remaining_um, {}, PatchSeedZ(options, observations.size())};
   c.adj = c.nb;  // symmetric neighbour graph
   for (std::size_t i = 0; i < c.nb.size(); ++i)
     for (int j : c.nb[i]) {

@@ -50,7 +50,10 @@ struct OutlierScreenOptions {
   double seed_z = 4.5;              // |r| / sigma above which a point starts a flagged component
   // Above this many observations seed_z rises (SeedZFor) so that noise alone starts as many
   // components, in expectation, as in a file of this size (0: never): a dense scan of 2e5 points
-  // screened at 4.5 sigma expects 1.4 chance outliers or patches, at 5.3 sigma 0.014.
+  // screened at 4.5 sigma expects 1.4 chance outliers or patches, at 5.3 sigma 0.014. Patches
+  // rise with it: grow_z and join_floor_z by seed_z's ratio, and an m-point patch is judged at
+  // SeedZFor of N + m (n - N) candidates (N this size; a point starts about m times as many
+  // connected m-point sets as single points).
   std::size_t seed_reference_points = 2000;
   double grow_z = 3.0;              // |r| / sigma for a neighbour to join it (same sign)
   // A neighbour down to join_floor_z sigma also joins when it is at least join_ratio of the member
